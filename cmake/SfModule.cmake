@@ -1,0 +1,22 @@
+# sf_module(NAME SOURCES ... DEPS ...): one library per module under libs/<name>,
+# public headers in libs/<name>/include/sf/<name>/, linked as sf::<name>.
+function(sf_module name)
+  cmake_parse_arguments(M "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(sf_${name} ${M_SOURCES})
+  add_library(sf::${name} ALIAS sf_${name})
+  target_include_directories(sf_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+                                        PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+  target_link_libraries(sf_${name} PUBLIC ${M_DEPS} PRIVATE sf_warnings ${M_PRIVATE_DEPS})
+endfunction()
+
+# sf_unit_test(NAME SOURCES ... DEPS ...): a GoogleTest binary whose tests carry
+# the label "unit" so `ctest -L unit` (and the asan preset) runs exactly them.
+function(sf_unit_test name)
+  cmake_parse_arguments(T "" "" "SOURCES;DEPS" ${ARGN})
+  if(NOT SF_BUILD_TESTS)
+    return()
+  endif()
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
+  gtest_discover_tests(${name} PROPERTIES LABELS unit DISCOVERY_TIMEOUT 60)
+endfunction()

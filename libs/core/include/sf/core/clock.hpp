@@ -1,0 +1,56 @@
+// Clock: the seam through which every module reads time, so tests can drive
+// timeouts, watchdogs, subscriptions and drift deterministically.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+
+namespace sf {
+
+class Clock {
+ public:
+  using duration = std::chrono::nanoseconds;
+  // Monotonic time; only differences are meaningful.
+  using time_point = std::chrono::steady_clock::time_point;
+  // Wall-clock (UTC) time, for timestamps that leave the process.
+  using utc_time = std::chrono::system_clock::time_point;
+
+  virtual ~Clock() = default;
+  [[nodiscard]] virtual time_point now() const = 0;
+  [[nodiscard]] virtual utc_time utc_now() const = 0;
+  // Blocks (or, for a manual clock, advances) until now() >= deadline.
+  virtual void sleep_until(time_point deadline) = 0;
+};
+
+// The real clock: std::chrono::steady_clock, sleeps with absolute deadlines
+// (clock_nanosleep TIMER_ABSTIME on CLOCK_MONOTONIC) so cycles do not drift.
+class SteadyClock final : public Clock {
+ public:
+  [[nodiscard]] time_point now() const override;
+  [[nodiscard]] utc_time utc_now() const override;
+  void sleep_until(time_point deadline) override;
+
+  static SteadyClock& instance();
+};
+
+// A clock that moves only when told to. sleep_until() jumps forward to the
+// deadline, so code that sleeps in a loop runs instantly and repeatably.
+// Thread-safe: now() may be read while another thread advances the clock.
+class ManualClock final : public Clock {
+ public:
+  explicit ManualClock(utc_time utc_start = utc_time{std::chrono::seconds{1'700'000'000}})
+      : utc_start_(utc_start) {}
+
+  [[nodiscard]] time_point now() const override;
+  [[nodiscard]] utc_time utc_now() const override;
+  void sleep_until(time_point deadline) override;
+
+  void advance(duration d);
+  void set(time_point t);
+
+ private:
+  std::atomic<std::int64_t> ns_{0};
+  utc_time utc_start_;
+};
+
+}  // namespace sf

@@ -4,8 +4,8 @@
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "commands.hpp"
 #include "sf/core/log.hpp"
@@ -24,11 +24,12 @@ constexpr const char* kDescription =
 int main(int argc, char** argv) {
   sf::log::init_from_env();
   CLI::App app{kDescription, "smartfactory"};
-  app.set_version_flag("--version", fmt::format("smartfactory {} ({})", sf::app::kVersion,
-                                                sf::app::kGitDescribe));
+  app.set_version_flag("--version",
+                       fmt::format("smartfactory {} ({})", sf::app::kVersion, sf::app::kGitDescribe));
   app.require_subcommand(0, 1);
   std::string log_level;
-  app.add_option("--log-level", log_level, "trace|debug|info|warn|error|off, optionally per module: info,opcua=debug")
+  app.add_option("--log-level", log_level,
+                 "trace|debug|info|warn|error|off, optionally per module: info,opcua=debug")
       ->envname("SF_LOG");
   app.parse_complete_callback([&] {
     if (!log_level.empty()) {

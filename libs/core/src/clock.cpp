@@ -5,9 +5,13 @@
 
 namespace sf {
 
-Clock::time_point SteadyClock::now() const { return std::chrono::steady_clock::now(); }
+Clock::time_point SteadyClock::now() const {
+  return std::chrono::steady_clock::now();
+}
 
-Clock::utc_time SteadyClock::utc_now() const { return std::chrono::system_clock::now(); }
+Clock::utc_time SteadyClock::utc_now() const {
+  return std::chrono::system_clock::now();
+}
 
 void SteadyClock::sleep_until(time_point deadline) {
   // libstdc++'s steady_clock is CLOCK_MONOTONIC; sleeping to an absolute
@@ -35,13 +39,16 @@ Clock::utc_time ManualClock::utc_now() const {
 }
 
 void ManualClock::sleep_until(time_point deadline) {
-  const auto target = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline.time_since_epoch()).count();
+  const auto target =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(deadline.time_since_epoch()).count();
   auto current = ns_.load(std::memory_order_acquire);
   while (current < target && !ns_.compare_exchange_weak(current, target, std::memory_order_acq_rel)) {
   }
 }
 
-void ManualClock::advance(duration d) { ns_.fetch_add(d.count(), std::memory_order_acq_rel); }
+void ManualClock::advance(duration d) {
+  ns_.fetch_add(d.count(), std::memory_order_acq_rel);
+}
 
 void ManualClock::set(time_point t) {
   ns_.store(std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count(),

@@ -20,11 +20,16 @@ std::string join_path(const std::string& parent, std::string_view key) {
 
 std::string describe_type(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "nothing";
-    case YAML::NodeType::Scalar: return fmt::format("'{}'", n.Scalar());
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a mapping";
-    case YAML::NodeType::Undefined: return "nothing";
+    case YAML::NodeType::Null:
+      return "nothing";
+    case YAML::NodeType::Scalar:
+      return fmt::format("'{}'", n.Scalar());
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a mapping";
+    case YAML::NodeType::Undefined:
+      return "nothing";
   }
   return "?";
 }
@@ -107,7 +112,8 @@ Result<std::string> Node::scalar() const {
 
 Result<std::int64_t> Node::integer() const {
   auto s = scalar();
-  if (!s) return s.error();
+  if (!s)
+    return s.error();
   std::int64_t v = 0;
   const auto* first = s->data();
   const auto* last = s->data() + s->size();
@@ -125,7 +131,8 @@ Result<std::int64_t> Node::integer() const {
 
 Result<std::uint64_t> Node::unsigned_integer() const {
   auto s = scalar();
-  if (!s) return s.error();
+  if (!s)
+    return s.error();
   if (!s->empty() && (*s)[0] == '-') {
     return error(fmt::format("expected a non-negative integer, found '{}'", *s));
   }
@@ -146,7 +153,8 @@ Result<std::uint64_t> Node::unsigned_integer() const {
 
 Result<double> Node::real() const {
   auto s = scalar();
-  if (!s) return s.error();
+  if (!s)
+    return s.error();
   double v = 0;
   const auto [ptr, ec] = std::from_chars(s->data(), s->data() + s->size(), v);
   if (ec != std::errc{} || ptr != s->data() + s->size() || s->empty()) {
@@ -157,9 +165,12 @@ Result<double> Node::real() const {
 
 Result<bool> Node::boolean() const {
   auto s = scalar();
-  if (!s) return s.error();
-  if (*s == "true" || *s == "yes" || *s == "on") return true;
-  if (*s == "false" || *s == "no" || *s == "off") return false;
+  if (!s)
+    return s.error();
+  if (*s == "true" || *s == "yes" || *s == "on")
+    return true;
+  if (*s == "false" || *s == "no" || *s == "off")
+    return false;
   return error(fmt::format("expected true or false, found '{}'", *s));
 }
 

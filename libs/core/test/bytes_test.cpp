@@ -12,8 +12,8 @@ TEST(ByteWriter, WritesLittleEndian) {
   w.u32(0x07060504);
   w.u64(0x0f0e0d0c0b0a0908ULL);
   w.i16(-2);
-  const Bytes expect{0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a,
-                     0x0b, 0x0c, 0x0d, 0x0e, 0x0f, 0xfe, 0xff};
+  const Bytes expect{0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09,
+                     0x0a, 0x0b, 0x0c, 0x0d, 0x0e, 0x0f, 0xfe, 0xff};
   EXPECT_EQ(w.data(), expect);
 }
 
@@ -74,7 +74,8 @@ TEST(ByteReader, CopyToZeroFillsOnOverrun) {
   std::uint8_t out[4] = {7, 7, 7, 7};
   r.copy_to(out);
   EXPECT_FALSE(r.ok());
-  for (auto b : out) EXPECT_EQ(b, 0);
+  for (auto b : out)
+    EXPECT_EQ(b, 0);
 }
 
 TEST(ByteWriter, PatchOverwritesOnlyInside) {

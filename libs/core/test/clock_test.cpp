@@ -30,8 +30,14 @@ TEST(ManualClock, SleepUntilJumpsForwardNeverBack) {
 
 TEST(ManualClock, ConcurrentAdvanceIsNotLost) {
   ManualClock clock;
-  std::thread a([&] { for (int i = 0; i < 10000; ++i) clock.advance(1ns); });
-  std::thread b([&] { for (int i = 0; i < 10000; ++i) clock.advance(1ns); });
+  std::thread a([&] {
+    for (int i = 0; i < 10000; ++i)
+      clock.advance(1ns);
+  });
+  std::thread b([&] {
+    for (int i = 0; i < 10000; ++i)
+      clock.advance(1ns);
+  });
   a.join();
   b.join();
   EXPECT_EQ(clock.now().time_since_epoch(), 20000ns);

@@ -26,11 +26,11 @@ using MutableByteSpan = std::span<std::uint8_t>;
 
 // Loads a little-endian integer or IEEE float from p (no alignment needed).
 template <typename T>
-  requires std::is_arithmetic_v<T>
-T load_le(const std::uint8_t* p) {
-  using U = std::conditional_t<sizeof(T) == 1, std::uint8_t,
-            std::conditional_t<sizeof(T) == 2, std::uint16_t,
-            std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
+requires std::is_arithmetic_v<T> T load_le(const std::uint8_t* p) {
+  using U = std::conditional_t<
+      sizeof(T) == 1, std::uint8_t,
+      std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                         std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
   U u = 0;
   for (std::size_t i = 0; i < sizeof(T); ++i) {
     u = static_cast<U>(u | static_cast<U>(static_cast<U>(p[i]) << (8U * i)));
@@ -39,11 +39,12 @@ T load_le(const std::uint8_t* p) {
 }
 
 template <typename T>
-  requires std::is_arithmetic_v<T>
+requires std::is_arithmetic_v<T>
 void store_le(std::uint8_t* p, T value) {
-  using U = std::conditional_t<sizeof(T) == 1, std::uint8_t,
-            std::conditional_t<sizeof(T) == 2, std::uint16_t,
-            std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
+  using U = std::conditional_t<
+      sizeof(T) == 1, std::uint8_t,
+      std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                         std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
   const U u = std::bit_cast<U>(value);
   for (std::size_t i = 0; i < sizeof(T); ++i) {
     p[i] = static_cast<std::uint8_t>(u >> (8U * i));
@@ -66,8 +67,7 @@ class ByteReader {
   double f64() { return read<double>(); }
 
   template <typename T>
-    requires std::is_arithmetic_v<T>
-  T read() {
+  requires std::is_arithmetic_v<T> T read() {
     if (!take(sizeof(T))) {
       return T{};
     }
@@ -121,7 +121,7 @@ class ByteWriter {
   void zeros(std::size_t n) { buf().resize(buf().size() + n, 0); }
 
   template <typename T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void write(T v) {
     const auto at = buf().size();
     buf().resize(at + sizeof(T));
@@ -131,7 +131,7 @@ class ByteWriter {
   // Overwrites a value already written at offset (for length fields that are
   // known only after the body). Returns false if it would not fit.
   template <typename T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   bool patch(std::size_t offset, T v) {
     if (offset > buf().size() || buf().size() - offset < sizeof(T)) {
       return false;
@@ -158,7 +158,7 @@ class SpanWriter {
   explicit SpanWriter(MutableByteSpan out) : out_(out) {}
 
   template <typename T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void write(T v) {
     if (!room(sizeof(T))) {
       return;

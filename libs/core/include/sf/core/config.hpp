@@ -87,29 +87,34 @@ Result<T> Node::as() const {
     return boolean();
   } else if constexpr (std::is_floating_point_v<T>) {
     auto v = real();
-    if (!v) return v.error();
+    if (!v)
+      return v.error();
     return static_cast<T>(*v);
   } else if constexpr (std::is_integral_v<T> && std::is_signed_v<T>) {
     auto v = integer();
-    if (!v) return v.error();
+    if (!v)
+      return v.error();
     if (*v < std::numeric_limits<T>::min() || *v > std::numeric_limits<T>::max()) {
       return error("integer out of range for this setting");
     }
     return static_cast<T>(*v);
   } else if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) {
     auto v = unsigned_integer();
-    if (!v) return v.error();
+    if (!v)
+      return v.error();
     if (*v > std::numeric_limits<T>::max()) {
       return error("integer out of range for this setting");
     }
     return static_cast<T>(*v);
   } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
     auto list = items();
-    if (!list) return list.error();
+    if (!list)
+      return list.error();
     std::vector<std::string> out;
     for (const auto& item : *list) {
       auto s = item.scalar();
-      if (!s) return s.error();
+      if (!s)
+        return s.error();
       out.push_back(std::move(*s));
     }
     return out;

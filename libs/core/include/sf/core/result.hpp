@@ -44,7 +44,8 @@ template <typename T>
 class [[nodiscard]] Result {
  public:
   Result(T value) : v_(std::in_place_index<0>, std::move(value)) {}  // NOLINT(google-explicit-constructor)
-  Result(Error error) : v_(std::in_place_index<1>, std::move(error)) {}  // NOLINT(google-explicit-constructor)
+  Result(Error error)
+      : v_(std::in_place_index<1>, std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
   [[nodiscard]] bool ok() const { return v_.index() == 0; }
   explicit operator bool() const { return ok(); }
@@ -96,15 +97,17 @@ class [[nodiscard]] Result<void> {
 
 using Status = Result<void>;
 
-inline Error make_error(Errc code, std::string message) { return Error{code, std::move(message)}; }
+inline Error make_error(Errc code, std::string message) {
+  return Error{code, std::move(message)};
+}
 
 }  // namespace sf
 
 // SF_TRY(expr): evaluate a Result<void>-like expression, return its error on failure.
-#define SF_TRY(expr)                          \
-  do {                                        \
-    auto sf_try_result_ = (expr);             \
-    if (!sf_try_result_.ok()) {               \
-      return sf_try_result_.error();          \
-    }                                         \
+#define SF_TRY(expr)                 \
+  do {                               \
+    auto sf_try_result_ = (expr);    \
+    if (!sf_try_result_.ok()) {      \
+      return sf_try_result_.error(); \
+    }                                \
   } while (false)

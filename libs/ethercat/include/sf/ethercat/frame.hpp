@@ -40,7 +40,7 @@ enum class Command : std::uint8_t {
   FPRD = 4,  // configured-address physical read
   FPWR = 5,
   FPRW = 6,
-  BRD = 7,   // broadcast read
+  BRD = 7,  // broadcast read
   BWR = 8,
   BRW = 9,
   LRD = 10,  // logical read

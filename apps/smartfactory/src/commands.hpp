@@ -1,6 +1,9 @@
 // Command groups of the smartfactory CLI. Each group's file registers its
-// subcommands on the app; the group's module does the work.
+// subcommands on the app; the group's module does the work. A group is
+// registered only when its module has something real behind it.
 #pragma once
+
+#include <atomic>
 
 #include <CLI/CLI.hpp>
 
@@ -10,5 +13,17 @@ namespace sf::app {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
+
+// Where a subcommand's callback leaves its exit code for main().
+struct CommandResult {
+  int exit_code = kExitOk;
+};
+
+// Installs SIGINT/SIGTERM handlers that set stop_requested(); commands that
+// run "until signalled" poll it.
+void install_stop_signals();
+bool stop_requested();
+
+void register_ecat(CLI::App& app, CommandResult& result);
 
 }  // namespace sf::app

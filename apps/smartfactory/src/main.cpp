@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
     }
   });
 
+  sf::app::CommandResult result;
+  sf::app::register_ecat(app, result);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -48,5 +51,5 @@ int main(int argc, char** argv) {
     std::cout << app.help();
     return sf::app::kExitOk;
   }
-  return sf::app::kExitOk;
+  return result.exit_code;
 }

@@ -40,7 +40,9 @@ int main(int argc, char** argv) {
   });
 
   sf::app::CommandResult result;
+#ifdef SF_HAVE_ECAT
   sf::app::register_ecat(app, result);
+#endif
 
   try {
     app.parse(argc, argv);

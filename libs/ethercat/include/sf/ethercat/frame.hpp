@@ -5,8 +5,10 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -27,6 +29,11 @@ inline constexpr std::size_t kMaxFrameSize = 1514;  // without FCS
 inline constexpr std::size_t kMaxDatagramData =
     kMaxFrameSize - kEthernetHeaderSize - kEcatHeaderSize - kDatagramOverhead;
 inline constexpr std::uint8_t kEcatTypeCommands = 1;
+// Datagram and EtherCAT-header lengths are 11-bit fields.
+inline constexpr std::size_t kMaxDatagramLength = 0x7FF;
+// IEEE 802.1Q tag: ETG.1000.4 allows one VLAN tag before the EtherType.
+inline constexpr std::uint16_t kVlanEtherType = 0x8100;
+inline constexpr std::size_t kVlanTagSize = 4;
 
 using MacAddress = std::array<std::uint8_t, 6>;
 inline constexpr MacAddress kBroadcastMac{0xff, 0xff, 0xff, 0xff, 0xff, 0xff};
@@ -91,8 +98,12 @@ struct Frame {
 std::size_t frame_size(std::span<const std::size_t> data_lengths);
 
 // Encodes a frame (padded to 60 bytes). Fails if it exceeds kMaxFrameSize or
-// a datagram exceeds 2047 bytes of data.
+// a datagram exceeds 2047 bytes of data. The M (more) bit of every datagram
+// but the last is set; EtherType, EtherCAT header length and type are filled in.
 Result<Bytes> encode(const Frame& frame);
+// The same into a caller's buffer (no allocation, for cyclic exchange);
+// returns the number of bytes written (padded to kMinFrameSize).
+Result<std::size_t> encode_into(const Frame& frame, MutableByteSpan out);
 // Decodes a frame by its length fields; trailing padding is ignored, a
 // truncated or inconsistent frame is an error that says where.
 Result<Frame> decode(ByteSpan bytes);

@@ -215,7 +215,7 @@ inline constexpr std::uint16_t kAlDeviceIdentification = 0x0020;
 // Port descriptor (0x0007): 2 bits per port.
 enum class PortKind : std::uint8_t { not_implemented = 0, not_configured = 1, ebus = 2, mii = 3 };
 constexpr PortKind port_kind(std::uint8_t descriptor, unsigned port) {
-  return static_cast<PortKind>((descriptor >> (2U * port)) & 0x3U);
+  return static_cast<PortKind>((static_cast<unsigned>(descriptor) >> (2U * port)) & 0x3U);
 }
 
 // ETG.1000.6 §6.4.1 / datasheet II §4: the EtherCAT state machine states as

@@ -24,6 +24,13 @@ struct CommandResult {
 void install_stop_signals();
 bool stop_requested();
 
+// Puts the calling thread (and the threads it starts afterwards) on SCHED_FIFO
+// with locked memory when the system allows it; returns whether it did.
+bool try_realtime(int priority);
+
 void register_ecat(CLI::App& app, CommandResult& result);
+// `agent machine|conveyor|product` and `cnp bench` (negotiation module).
+void register_agent(CLI::App& app, CommandResult& result);
+void register_cnp(CLI::App& app, CommandResult& result);
 
 }  // namespace sf::app

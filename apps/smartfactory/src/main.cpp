@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_ECAT
   sf::app::register_ecat(app, result);
 #endif
+#ifdef SF_HAVE_AGENT
+  sf::app::register_agent(app, result);
+  sf::app::register_cnp(app, result);
+#endif
 
   try {
     app.parse(argc, argv);

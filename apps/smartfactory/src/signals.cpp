@@ -1,3 +1,6 @@
+#include <sched.h>
+#include <sys/mman.h>
+
 #include <csignal>
 
 #include "commands.hpp"
@@ -20,5 +23,15 @@ void install_stop_signals() {
 }
 
 bool stop_requested() { return g_stop.load(); }
+
+bool try_realtime(int priority) {
+  sched_param param{};
+  param.sched_priority = priority;
+  if (sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
+    return false;
+  }
+  (void)mlockall(MCL_CURRENT | MCL_FUTURE);
+  return true;
+}
 
 }  // namespace sf::app

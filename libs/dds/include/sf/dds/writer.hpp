@@ -1,0 +1,81 @@
+// Writer<T>: a DataWriter (DDS 1.4 §2.2.2.4.2) of an idlc-generated type, with
+// the instance life cycle: write, dispose (the instance is gone for everyone),
+// unregister (this writer stops updating it).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <dds/dds.h>
+
+#include "sf/core/result.hpp"
+#include "sf/dds/entity.hpp"
+#include "sf/dds/executor.hpp"
+#include "sf/dds/listener.hpp"
+#include "sf/dds/participant.hpp"
+#include "sf/dds/qos.hpp"
+#include "sf/dds/status.hpp"
+#include "sf/dds/topic.hpp"
+
+namespace sf::dds {
+
+class WriterBase {
+ public:
+  WriterBase(WriterBase&&) noexcept = default;
+  WriterBase& operator=(WriterBase&&) noexcept;
+  ~WriterBase();
+
+  [[nodiscard]] dds_entity_t handle() const { return entity_.get(); }
+  [[nodiscard]] const std::string& topic_name() const { return topic_name_; }
+  [[nodiscard]] Result<MatchedStatus> publication_matched() const;
+  [[nodiscard]] Result<Qos> qos() const;
+  // For MANUAL_BY_* liveliness: this writer is alive.
+  Status assert_liveliness() const;
+
+ protected:
+  static Result<WriterBase> create_raw(const Participant& participant, dds_entity_t topic,
+                                       std::string topic_name, const Qos& qos, Executor* executor,
+                                       WriterListeners listeners);
+  Status write_raw(const void* sample) const;
+  Status dispose_raw(const void* sample) const;
+  Status unregister_raw(const void* sample) const;
+
+ private:
+  WriterBase(Entity entity, std::shared_ptr<detail::ListenerCore> core, std::string topic_name)
+      : entity_(std::move(entity)), core_(std::move(core)), topic_name_(std::move(topic_name)) {}
+  void close();
+
+  Entity entity_;
+  std::shared_ptr<detail::ListenerCore> core_;
+  std::string topic_name_;
+};
+
+template <typename T>
+class Writer : public WriterBase {
+ public:
+  static Result<Writer> create(const Participant& participant, const Topic<T>& topic, const Qos& qos,
+                               Executor* executor = nullptr, WriterListeners listeners = {}) {
+    auto base = create_raw(participant, topic.handle(), topic.name(), qos, executor, std::move(listeners));
+    if (!base) {
+      return base.error();
+    }
+    return Writer{std::move(*base)};
+  }
+
+  Status write(const T& sample) const { return write_raw(&sample); }
+  // Only the key fields of `key` matter.
+  Status dispose(const T& key) const { return dispose_raw(&key); }
+  Status unregister(const T& key) const { return unregister_raw(&key); }
+  // The end of a conversation: dispose, then let go of the instance so the
+  // writer's history forgets it (TRANSIENT_LOCAL late joiners won't see it).
+  Status dispose_and_unregister(const T& key) const {
+    SF_TRY(dispose(key));
+    return unregister(key);
+  }
+
+ private:
+  explicit Writer(WriterBase&& base) : WriterBase(std::move(base)) {}
+};
+
+}  // namespace sf::dds

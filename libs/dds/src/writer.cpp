@@ -1,0 +1,100 @@
+#include "sf/dds/writer.hpp"
+
+#include <fmt/format.h>
+
+namespace sf::dds {
+
+Result<WriterBase> WriterBase::create_raw(const Participant& participant, dds_entity_t topic,
+                                          std::string topic_name, const Qos& qos, Executor* executor,
+                                          WriterListeners listeners) {
+  std::shared_ptr<detail::ListenerCore> core;
+  if (listeners.on_publication_matched || listeners.on_liveliness_lost ||
+      listeners.on_offered_deadline_missed) {
+    if (executor == nullptr) {
+      return Error{Errc::invalid_argument,
+                   fmt::format("writer of {}: listeners need an executor", topic_name)};
+    }
+    core = std::make_shared<detail::ListenerCore>(*executor);
+    core->writer = std::move(listeners);
+  }
+  dds_listener_t* l = detail::make_writer_listener(core.get());
+  const dds_entity_t w = dds_create_writer(participant.publisher(), topic, qos.get(), l);
+  if (l != nullptr) {
+    dds_delete_listener(l);
+  }
+  if (w < 0) {
+    return dds_error(w, fmt::format("dds_create_writer({})", topic_name));
+  }
+  if (core) {
+    core->entity.store(w);
+  }
+  return WriterBase{Entity{w}, std::move(core), std::move(topic_name)};
+}
+
+WriterBase& WriterBase::operator=(WriterBase&& other) noexcept {
+  if (this != &other) {
+    close();
+    entity_ = std::move(other.entity_);
+    core_ = std::move(other.core_);
+    topic_name_ = std::move(other.topic_name_);
+  }
+  return *this;
+}
+
+WriterBase::~WriterBase() {
+  close();
+}
+
+void WriterBase::close() {
+  entity_.reset();
+  if (core_) {
+    core_->close();
+    core_.reset();
+  }
+}
+
+Status WriterBase::write_raw(const void* sample) const {
+  if (const auto rc = dds_write(handle(), sample); rc < 0) {
+    return dds_error(rc, fmt::format("dds_write({})", topic_name_));
+  }
+  return {};
+}
+
+Status WriterBase::dispose_raw(const void* sample) const {
+  if (const auto rc = dds_dispose(handle(), sample); rc < 0) {
+    return dds_error(rc, fmt::format("dds_dispose({})", topic_name_));
+  }
+  return {};
+}
+
+Status WriterBase::unregister_raw(const void* sample) const {
+  if (const auto rc = dds_unregister_instance(handle(), sample); rc < 0) {
+    return dds_error(rc, fmt::format("dds_unregister_instance({})", topic_name_));
+  }
+  return {};
+}
+
+Result<MatchedStatus> WriterBase::publication_matched() const {
+  dds_publication_matched_status_t s{};
+  if (const auto rc = dds_get_publication_matched_status(handle(), &s); rc < 0) {
+    return dds_error(rc, fmt::format("publication matched status of {}", topic_name_));
+  }
+  return MatchedStatus{s.total_count, s.current_count, s.current_count_change, s.last_subscription_handle};
+}
+
+Result<Qos> WriterBase::qos() const {
+  Qos q;
+  if (const auto rc = dds_get_qos(handle(), q.get()); rc < 0) {
+    return dds_error(rc, fmt::format("QoS of writer {}", topic_name_));
+  }
+  return q;
+}
+
+Status WriterBase::assert_liveliness() const {
+  if (const auto rc = dds_assert_liveliness(handle()); rc < 0) {
+    return dds_error(rc, fmt::format("dds_assert_liveliness({})", topic_name_));
+  }
+  return {};
+}
+
+}  // namespace sf::dds

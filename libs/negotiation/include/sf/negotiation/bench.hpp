@@ -1,0 +1,70 @@
+// The Contract Net benchmark behind `smartfactory cnp bench` and
+// bench/bench_cnp.sh: negotiation latency (ANNOUNCE → confirmed AWARD, one
+// negotiation at a time) and throughput (a window of negotiations in flight)
+// against N contractors over DDS on loopback, the contractors either in this
+// process or each in its own process. In the same run it measures Cyclone's
+// own ddsperf ping/pong round trip with the same configuration, so the figure
+// comes with its ratio to one DDS round trip (machines are shared and noisy).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "sf/core/result.hpp"
+#include "sf/negotiation/dds_transport.hpp"
+
+namespace sf::negotiation {
+
+struct BenchOptions {
+  std::size_t contractors = 4;
+  std::size_t negotiations = 1000;  // per phase (latency, throughput)
+  bool processes = false;           // each contractor in its own process
+  std::string agent_binary;         // the smartfactory binary (for processes)
+  std::size_t window = 8;           // negotiations in flight in the throughput phase
+  std::size_t warmup = 20;
+  std::chrono::nanoseconds spin{0};  // executor spin before blocking (here and in contractor processes)
+  DdsSettings dds;
+  bool ddsperf = true;
+  std::string ddsperf_binary = "ddsperf";
+  std::chrono::seconds ddsperf_duration{4};
+};
+
+struct LatencyStats {
+  std::size_t samples = 0;
+  double mean_us = 0;
+  double p50_us = 0;
+  double p90_us = 0;
+  double p99_us = 0;
+  double max_us = 0;
+};
+
+struct BenchResult {
+  std::size_t contractors = 0;
+  std::size_t negotiations = 0;
+  bool processes = false;
+  std::size_t window = 0;
+  LatencyStats latency;         // one negotiation at a time
+  double sequential_per_s = 0;  // one at a time
+  double pipelined_per_s = 0;   // `window` at a time
+  std::uint64_t renegotiations = 0;
+  std::uint64_t failed = 0;
+  std::optional<double> ddsperf_rtt_p50_us;  // one ping/pong round trip, median
+  std::optional<double> ddsperf_rtt_mean_us;
+  std::optional<double> ratio_p50;  // latency p50 / ddsperf round-trip p50
+};
+
+LatencyStats latency_stats(std::vector<double> samples_us);
+
+// Progress lines go to `progress` (e.g. stderr).
+Result<BenchResult> run_bench(const BenchOptions& options,
+                              const std::function<void(std::string_view)>& progress = {});
+
+// ddsperf ping/pong between two processes on loopback with `settings`'
+// network configuration, in a domain of its own.
+Result<LatencyStats> run_ddsperf(const BenchOptions& options);
+
+}  // namespace sf::negotiation

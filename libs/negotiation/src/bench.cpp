@@ -1,0 +1,403 @@
+#include "sf/negotiation/bench.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "sf/dds/config.hpp"
+#include "sf/negotiation/agents.hpp"
+
+extern char** environ;  // NOLINT: POSIX
+
+namespace sf::negotiation {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr dds::DomainId kDdsperfDomain = 231;
+
+// A process this benchmark started; stopped (TERM, then KILL) when destroyed.
+class Child {
+ public:
+  static Result<Child> spawn(const std::vector<std::string>& args, const std::vector<std::string>& extra_env,
+                             const std::string& output) {
+    std::vector<char*> argv;
+    for (const auto& a : args) {
+      argv.push_back(const_cast<char*>(a.c_str()));  // NOLINT: posix_spawn's signature
+    }
+    argv.push_back(nullptr);
+    std::vector<std::string> env_store = extra_env;
+    for (char** e = environ; *e != nullptr; ++e) {
+      env_store.emplace_back(*e);
+    }
+    std::vector<char*> envp;
+    for (auto& e : env_store) {
+      envp.push_back(e.data());
+    }
+    envp.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    pid_t pid = 0;
+    const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) {
+      return Error{Errc::io, fmt::format("cannot start {}: {}", args[0], std::strerror(rc))};
+    }
+    return Child{pid};
+  }
+
+  Child(Child&& o) noexcept : pid_(std::exchange(o.pid_, 0)) {}
+  Child& operator=(Child&&) = delete;
+  ~Child() { stop(); }
+
+  // Waits for the process to exit by itself (up to `bound`); true if it did.
+  bool wait(std::chrono::nanoseconds bound) {
+    const auto end = std::chrono::steady_clock::now() + bound;
+    while (pid_ > 0 && std::chrono::steady_clock::now() < end) {
+      if (waitpid(pid_, nullptr, WNOHANG) == pid_) {
+        pid_ = 0;
+        return true;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    return pid_ == 0;
+  }
+
+  void stop() {
+    if (pid_ <= 0) {
+      return;
+    }
+    kill(pid_, SIGTERM);
+    if (!wait(5s)) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+      pid_ = 0;
+    }
+  }
+
+ private:
+  explicit Child(pid_t pid) : pid_(pid) {}
+  pid_t pid_;
+};
+
+std::string temp_path(std::string_view tag) {
+  return fmt::format("/tmp/sf-cnp-bench-{}-{}.log", ::getpid(), tag);
+}
+
+double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) {
+    return 0;
+  }
+  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(sorted.size())));
+  return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
+}
+
+// The side of the benchmark that negotiates: a product with one manager.
+class Driver {
+ public:
+  Driver(const BenchOptions& o, const DdsSettings& s) : options_(o), settings_(s) {}
+
+  Status setup(const std::function<void(std::string_view)>& progress) {
+    executor_.set_spin(options_.spin);
+    auto ep = ProductEndpoints::create(settings_, "bench", {"OP1"}, executor_, false);
+    if (!ep) {
+      return ep.error();
+    }
+    endpoints_ = std::move(*ep);
+    ManagerConfig mc;
+    mc.bid_window = 2s;
+    mc.confirm_window = 2s;
+    mc.max_rounds = 0;
+    manager_ = std::make_unique<Manager>(*endpoints_, clock_, mc, earliest_finish());
+    endpoints_->bind(static_cast<ManagerInbox&>(*manager_));
+    SF_TRY(start_contractors());
+    if (progress) {
+      progress(fmt::format("waiting for {} contractors to be discovered", options_.contractors));
+    }
+    const auto end = clock_.now() + 120s;
+    while (endpoints_->contractors("OP1") < options_.contractors ||
+           endpoints_->bidders("OP1") < options_.contractors) {
+      if (clock_.now() > end) {
+        return Error{Errc::timeout, fmt::format("only {} of {} contractors discovered",
+                                                endpoints_->contractors("OP1"), options_.contractors)};
+      }
+      pump();
+    }
+    return {};
+  }
+
+  // One negotiation at a time; returns the latencies in microseconds.
+  Result<std::vector<double>> sequential(std::size_t n) {
+    std::vector<double> latencies;
+    for (std::size_t i = 0; i < n; ++i) {
+      bool confirmed = false;
+      auto id = manager_->negotiate(
+          {"bench", "OP1", {}, {}},
+          {[&](const Conversation& c) {
+             confirmed = true;
+             latencies.push_back(
+                 std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
+           },
+           {},
+           {}});
+      if (!id) {
+        return id.error();
+      }
+      SF_TRY(pump_until([&] { return confirmed; }));
+    }
+    return latencies;
+  }
+
+  // `window` negotiations in flight; returns negotiations per second.
+  Result<double> pipelined(std::size_t n, std::size_t window) {
+    std::size_t started = 0;
+    std::size_t confirmed = 0;
+    const auto t0 = clock_.now();
+    while (confirmed < n) {
+      while (started < n && started - confirmed < window) {
+        auto id = manager_->negotiate({"bench", "OP1", {}, {}},
+                                      {[&](const Conversation&) { ++confirmed; }, {}, {}});
+        if (!id) {
+          return id.error();
+        }
+        ++started;
+      }
+      const auto before = confirmed;
+      SF_TRY(pump_until([&] { return confirmed > before; }));
+    }
+    return static_cast<double>(n) / std::chrono::duration<double>(clock_.now() - t0).count();
+  }
+
+  Status drain() {
+    return pump_until([&] { return manager_->active() == 0; });
+  }
+  const ManagerStats& stats() const { return manager_->stats(); }
+
+ private:
+  Status start_contractors() {
+    for (std::size_t i = 1; i <= options_.contractors; ++i) {
+      const auto name = fmt::format("B{}", i);
+      if (!options_.processes) {
+        ContractorConfig cfg{name, {{"OP1", 0ns, 1.0}}};
+        cfg.capacity = 1'000'000;
+        auto m = MachineAgent::create(settings_, cfg, {}, executor_, clock_);
+        if (!m) {
+          return m.error();
+        }
+        machines_.push_back(std::move(*m));
+        continue;
+      }
+      auto child = Child::spawn(
+          {options_.agent_binary,
+           "--log-level",
+           "warn",
+           "agent",
+           "machine",
+           "--name",
+           name,
+           "--ops",
+           "OP1",
+           "--work-ms",
+           "0",
+           "--capacity",
+           "1000000",
+           "--partition",
+           settings_.partition,
+           "--machining-domain",
+           std::to_string(settings_.machining_domain),
+           "--conveying-domain",
+           std::to_string(settings_.conveying_domain),
+           "--spin-us",
+           std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(options_.spin).count())},
+          {}, "/dev/null");
+      if (!child) {
+        return child.error();
+      }
+      children_.push_back(std::move(*child));
+    }
+    return {};
+  }
+
+  void pump() {
+    executor_.run_pending();
+    manager_->tick();
+    for (auto& m : machines_) {
+      m->tick();
+    }
+    if (executor_.pending() == 0) {
+      executor_.wait_for(1ms);
+    }
+  }
+
+  Status pump_until(const std::function<bool()>& done) {
+    const auto end = clock_.now() + 60s;
+    while (!done()) {
+      if (clock_.now() > end) {
+        return Error{Errc::timeout, "a negotiation did not complete within 60 s"};
+      }
+      pump();
+    }
+    return {};
+  }
+
+  const BenchOptions& options_;
+  DdsSettings settings_;
+  SteadyClock& clock_ = SteadyClock::instance();
+  dds::Executor executor_;
+  std::vector<Child> children_;  // stopped last (declared first)
+  std::unique_ptr<ProductEndpoints> endpoints_;
+  std::unique_ptr<Manager> manager_;
+  std::vector<std::unique_ptr<MachineAgent>> machines_;
+};
+
+}  // namespace
+
+LatencyStats latency_stats(std::vector<double> samples) {
+  LatencyStats s;
+  if (samples.empty()) {
+    return s;
+  }
+  std::sort(samples.begin(), samples.end());
+  s.samples = samples.size();
+  double sum = 0;
+  for (const double v : samples) {
+    sum += v;
+  }
+  s.mean_us = sum / static_cast<double>(samples.size());
+  s.p50_us = percentile(samples, 0.50);
+  s.p90_us = percentile(samples, 0.90);
+  s.p99_us = percentile(samples, 0.99);
+  s.max_us = samples.back();
+  return s;
+}
+
+Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
+  auto xml = dds::cyclone_config_xml(options.dds.network);
+  if (!xml) {
+    return xml.error();
+  }
+  const std::vector<std::string> env{"CYCLONEDDS_URI=" + *xml};
+  const auto secs = options.ddsperf_duration.count();
+  const auto domain = std::to_string(kDdsperfDomain);
+  auto pong = Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs + 5), "pong"},
+                           env, "/dev/null");
+  if (!pong) {
+    return pong.error();
+  }
+  const auto out = temp_path("ddsperf");
+  auto ping =
+      Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs), "ping"}, env, out);
+  if (!ping) {
+    return ping.error();
+  }
+  ping->wait(std::chrono::seconds{secs + 10});
+  pong->stop();
+  // "[pid] 2.000  host:pid size 12 mean 6.9us min 3.7us 50% 4.0us 90% 4.2us 99% 4.5us max 2743us cnt 71926"
+  const std::regex line{R"(mean ([0-9.]+)us min [0-9.]+us 50% ([0-9.]+)us .* cnt ([0-9]+))"};
+  std::ifstream in{out};
+  std::string text;
+  std::vector<double> medians;
+  double weighted_mean = 0;
+  double count = 0;
+  while (std::getline(in, text)) {
+    std::smatch m;
+    if (std::regex_search(text, m, line)) {
+      const double n = std::stod(m[3]);
+      medians.push_back(std::stod(m[2]));
+      weighted_mean += std::stod(m[1]) * n;
+      count += n;
+    }
+  }
+  std::remove(out.c_str());
+  if (medians.empty()) {
+    return Error{Errc::not_found, fmt::format("{} printed no round-trip statistics", options.ddsperf_binary)};
+  }
+  std::sort(medians.begin(), medians.end());
+  LatencyStats s;
+  s.samples = static_cast<std::size_t>(count);
+  s.p50_us = percentile(medians, 0.5);  // the median of its per-second medians
+  s.mean_us = weighted_mean / count;
+  return s;
+}
+
+Result<BenchResult> run_bench(const BenchOptions& options,
+                              const std::function<void(std::string_view)>& progress) {
+  if (options.contractors == 0 || options.negotiations == 0 || options.window == 0) {
+    return Error{Errc::invalid_argument, "contractors, negotiations and window must be at least 1"};
+  }
+  if (options.processes && options.agent_binary.empty()) {
+    return Error{Errc::invalid_argument, "--processes needs the smartfactory binary to start contractors"};
+  }
+  BenchResult r;
+  r.contractors = options.contractors;
+  r.negotiations = options.negotiations;
+  r.processes = options.processes;
+  r.window = options.window;
+  DdsSettings settings = options.dds;
+  if (settings.partition == DdsSettings{}.partition) {
+    settings.partition = fmt::format("cnp-bench-{}", ::getpid());
+  }
+  {
+    Driver driver{options, settings};
+    SF_TRY(driver.setup(progress));
+    if (progress) {
+      progress(fmt::format("{} contractors ready; {} negotiations one at a time", options.contractors,
+                           options.negotiations));
+    }
+    if (auto warm = driver.sequential(options.warmup); !warm) {
+      return warm.error();
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    auto latencies = driver.sequential(options.negotiations);
+    if (!latencies) {
+      return latencies.error();
+    }
+    r.sequential_per_s = static_cast<double>(options.negotiations) /
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.latency = latency_stats(std::move(*latencies));
+    if (progress) {
+      progress(fmt::format("{} negotiations, {} in flight", options.negotiations, options.window));
+    }
+    auto rate = driver.pipelined(options.negotiations, options.window);
+    if (!rate) {
+      return rate.error();
+    }
+    r.pipelined_per_s = *rate;
+    SF_TRY(driver.drain());
+    r.renegotiations = driver.stats().renegotiations;
+    r.failed = driver.stats().failed;
+  }
+  if (options.ddsperf) {
+    if (progress) {
+      progress("ddsperf ping/pong for comparison");
+    }
+    auto perf = run_ddsperf(options);
+    if (perf) {
+      r.ddsperf_rtt_p50_us = perf->p50_us;
+      r.ddsperf_rtt_mean_us = perf->mean_us;
+      if (perf->p50_us > 0) {
+        r.ratio_p50 = r.latency.p50_us / perf->p50_us;
+      }
+    } else if (progress) {
+      progress(fmt::format("ddsperf skipped: {}", perf.error().describe()));
+    }
+  }
+  return r;
+}
+
+}  // namespace sf::negotiation

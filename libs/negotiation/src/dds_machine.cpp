@@ -1,0 +1,160 @@
+// Machine side of the DDS transport: per supported operation reader
+// OPx_ANNOUNCE, reader OPx_AWARD, writer OPx_BID.
+#include <map>
+
+#include <fmt/format.h>
+
+#include "dds_common.hpp"
+
+namespace sf::negotiation {
+
+using detail::join;
+using detail::log_status;
+using detail::Opt;
+using detail::reader_qos;
+using detail::writer_qos;
+
+// ============================================================================
+// Machine: per operation reader ANNOUNCE, reader AWARD, writer BID.
+// ============================================================================
+
+struct MachineOp {
+  std::string operation;
+  Opt<dds::Topic<sf_cnp_Announce>> announce_topic;
+  Opt<dds::Topic<sf_cnp_ContractorMessage>> bid_topic;
+  Opt<dds::Topic<sf_cnp_ManagerMessage>> award_topic;
+  Opt<dds::Writer<sf_cnp_ContractorMessage>> bid;
+  Opt<dds::Reader<sf_cnp_Announce>> announce;
+  Opt<dds::Reader<sf_cnp_ManagerMessage>> award;
+};
+
+struct MachineEndpoints::Impl {
+  log::Logger log = log::get("negotiation");
+  ContractorInbox* inbox = nullptr;
+  std::string name;
+  Opt<dds::Participant> participant;
+  std::map<std::string, std::unique_ptr<MachineOp>> ops;
+
+  Status add_operation(const DdsSettings& s, const std::string& op, dds::Executor& ex);
+  void on_announce(MachineOp& op, const sf_cnp_Announce& sample, const dds::SampleInfo& info);
+  void on_award(MachineOp& op, const sf_cnp_ManagerMessage& sample, const dds::SampleInfo& info);
+};
+
+Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::string& name_of_op,
+                                             dds::Executor& ex) {
+  SF_TRY(validate_operation(name_of_op));
+  auto op = std::make_unique<MachineOp>();
+  op->operation = name_of_op;
+  MachineOp* raw = op.get();
+  const auto& p = *participant;
+  SF_EMPLACE(op->announce_topic, dds::Topic<sf_cnp_Announce>::create(p, announce_topic(name_of_op)));
+  SF_EMPLACE(op->bid_topic, dds::Topic<sf_cnp_ContractorMessage>::create(p, bid_topic(name_of_op)));
+  SF_EMPLACE(op->award_topic, dds::Topic<sf_cnp_ManagerMessage>::create(p, award_topic(name_of_op)));
+  SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, writer_qos(s)));
+  SF_EMPLACE(op->announce, dds::Reader<sf_cnp_Announce>::create(
+                               p, *op->announce_topic, reader_qos(s), &ex,
+                               [this, raw](const sf_cnp_Announce& m, const dds::SampleInfo& i) {
+                                 on_announce(*raw, m, i);
+                               }));
+  SF_EMPLACE(op->award, dds::Reader<sf_cnp_ManagerMessage>::create(
+                            p, *op->award_topic, reader_qos(s), &ex,
+                            [this, raw](const sf_cnp_ManagerMessage& m, const dds::SampleInfo& i) {
+                              on_award(*raw, m, i);
+                            }));
+  ops.emplace(name_of_op, std::move(op));
+  return {};
+}
+
+void MachineEndpoints::Impl::on_announce(MachineOp& op, const sf_cnp_Announce& sample,
+                                         const dds::SampleInfo& info) {
+  auto m = codec::decode(sample);
+  if (!m) {
+    log->warn("{}: dropped a malformed sample: {}", announce_topic(op.operation), m.error().describe());
+    return;
+  }
+  if (inbox == nullptr) {
+    return;
+  }
+  // A disposed (or orphaned) instance is a conversation that ended.
+  if (info.valid_data && info.instance_state == dds::InstanceState::Alive) {
+    inbox->on_announce(*m);
+  } else if (info.instance_state != dds::InstanceState::Alive) {
+    inbox->on_conversation_closed(op.operation, m->conversation);
+  }
+}
+
+void MachineEndpoints::Impl::on_award(MachineOp& op, const sf_cnp_ManagerMessage& sample,
+                                      const dds::SampleInfo& info) {
+  auto m = codec::decode(sample);
+  if (!m) {
+    log->warn("{}: dropped a malformed sample: {}", award_topic(op.operation), m.error().describe());
+    return;
+  }
+  if (inbox == nullptr) {
+    return;
+  }
+  if (info.valid_data) {
+    inbox->on_manager_message(*m);
+  }
+  if (info.instance_state != dds::InstanceState::Alive) {
+    inbox->on_conversation_closed(op.operation, m->conversation);
+  }
+}
+
+MachineEndpoints::MachineEndpoints(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+MachineEndpoints::~MachineEndpoints() = default;
+
+Result<std::unique_ptr<MachineEndpoints>> MachineEndpoints::create(const DdsSettings& settings,
+                                                                   const std::string& name,
+                                                                   const std::vector<std::string>& operations,
+                                                                   dds::Executor& executor) {
+  SF_TRY(validate_name("machine", name));
+  auto impl = std::make_unique<Impl>();
+  impl->name = name;
+  SF_EMPLACE(impl->participant, join(settings, settings.machining_domain, "machine/" + name));
+  for (const auto& op : operations) {
+    SF_TRY(impl->add_operation(settings, op, executor));
+  }
+  return std::unique_ptr<MachineEndpoints>(new MachineEndpoints(std::move(impl)));
+}
+
+void MachineEndpoints::bind(ContractorInbox& inbox) {
+  impl_->inbox = &inbox;
+}
+
+Status MachineEndpoints::send(const ContractorMessage& m) {
+  auto it = impl_->ops.find(m.operation);
+  if (it == impl_->ops.end()) {
+    return Error{Errc::not_found,
+                 fmt::format("no {} topic: operation not supported", bid_topic(m.operation))};
+  }
+  auto sample = codec::encode(m);
+  if (!sample) {
+    return sample.error();
+  }
+  return it->second->bid->write(*sample);
+}
+
+void MachineEndpoints::close(const std::string& operation, const std::string& conversation) {
+  auto it = impl_->ops.find(operation);
+  if (it != impl_->ops.end()) {
+    log_status(impl_->log,
+               it->second->bid->dispose_and_unregister(codec::contractor_key(conversation, impl_->name)),
+               "dispose");
+  }
+}
+
+const dds::Participant& MachineEndpoints::participant() const {
+  return *impl_->participant;
+}
+
+std::size_t MachineEndpoints::managers(const std::string& operation) const {
+  auto it = impl_->ops.find(operation);
+  if (it == impl_->ops.end()) {
+    return 0;
+  }
+  auto m = it->second->bid->publication_matched();
+  return m ? m->current_count : 0;
+}
+
+}  // namespace sf::negotiation

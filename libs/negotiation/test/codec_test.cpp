@@ -1,0 +1,121 @@
+// The IDL codec: every message kind survives a round trip; bounds are
+// enforced on encoding; malformed samples are refused on decoding.
+#include "dds_codec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+namespace sf::negotiation {
+namespace {
+
+using namespace std::chrono_literals;
+
+const UtcTime kT{std::chrono::seconds{1'700'000'000} + 123456789ns};
+
+TEST(Codec, AnnounceRoundTrip) {
+  const Announce a{"P1/OP1/ab.1", "P1", "OP1", 3, {{"mass", 1.5}, {"colour", 2.0}}, kT};
+  codec::ParamStorage storage;
+  auto s = codec::encode(a, storage);
+  ASSERT_TRUE(s.ok()) << s.error().describe();
+  auto back = codec::decode(*s);
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->conversation, a.conversation);
+  EXPECT_EQ(back->product, "P1");
+  EXPECT_EQ(back->operation, "OP1");
+  EXPECT_EQ(back->round, 3U);
+  EXPECT_EQ(back->params, a.params);
+  EXPECT_EQ(back->bid_deadline, kT);
+}
+
+TEST(Codec, EveryContractorMessageKindRoundTrips) {
+  const std::vector<ContractorBody> bodies{Bid{kT, kT + 5s, 2.5, 4}, Refuse{0, "busy"}, Confirm{2},
+                                           InformDone{2, "done"}, Failure{2, "jammed"}};
+  for (const auto& body : bodies) {
+    const ContractorMessage m{"c", "M1", "OP2", 7, body};
+    auto s = codec::encode(m);
+    ASSERT_TRUE(s.ok());
+    auto back = codec::decode(*s);
+    ASSERT_TRUE(back.ok());
+    EXPECT_EQ(describe(*back), describe(m));
+    EXPECT_EQ(back->body.index(), body.index());
+  }
+  auto bid = codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Bid{kT, kT + 5s, 2.5, 4}}));
+  const auto& b = std::get<Bid>(bid->body);
+  EXPECT_EQ(b.estimated_start, kT);
+  EXPECT_EQ(b.estimated_finish, kT + 5s);
+  EXPECT_DOUBLE_EQ(b.cost, 2.5);
+  EXPECT_EQ(b.queue_length, 4U);
+  auto refuse =
+      codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Refuse{3, "queue full"}}));
+  EXPECT_EQ(std::get<Refuse>(refuse->body).reason, "queue full");
+  EXPECT_EQ(std::get<Refuse>(refuse->body).award_id, 3U);
+}
+
+TEST(Codec, EveryManagerMessageKindRoundTrips) {
+  codec::ParamStorage storage;
+  const ManagerMessage d{"c", "P1", "OP1", "M3", 0, DirectedAward{1, kT, {{"x", 1.0}}}};
+  auto back = codec::decode(*codec::encode(d, storage));
+  ASSERT_TRUE(back.ok());
+  const auto& da = std::get<DirectedAward>(back->body);
+  EXPECT_EQ(da.award_id, 1U);
+  EXPECT_EQ(da.confirm_by, kT);
+  EXPECT_EQ(da.params, (std::vector<Param>{{"x", 1.0}}));
+  EXPECT_EQ(back->contractor, "M3");
+  auto award =
+      codec::decode(*codec::encode(ManagerMessage{"c", "P1", "OP1", "M3", 2, Award{4, kT}}, storage));
+  EXPECT_EQ(std::get<Award>(award->body).award_id, 4U);
+  EXPECT_EQ(award->round, 2U);
+  auto cancel =
+      codec::decode(*codec::encode(ManagerMessage{"c", "P1", "OP1", "M3", 2, Cancel{4, "late"}}, storage));
+  EXPECT_EQ(std::get<Cancel>(cancel->body).reason, "late");
+}
+
+TEST(Codec, TransportMessagesRoundTrip) {
+  auto r = codec::decode(*codec::encode(TransportRequest{"r", "P1", "Input", "M2", kT}));
+  EXPECT_EQ(r->from, "Input");
+  EXPECT_EQ(r->to, "M2");
+  EXPECT_EQ(r->earliest_start, kT);
+  auto i = codec::decode(*codec::encode(TransportInform{"r", "C1", "Input", "M1", 1500ms, kT}));
+  EXPECT_EQ(i->conveyor, "C1");
+  EXPECT_EQ(i->transit_time, 1500ms);
+  EXPECT_EQ(i->eta, kT);
+}
+
+TEST(Codec, EncodingRefusesWhatDoesNotFitTheBounds) {
+  codec::ParamStorage storage;
+  const std::string long_name(32, 'x');
+  auto e = codec::encode(ContractorMessage{"c", long_name, "OP1", 1, Confirm{1}});
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.error().code, Errc::limit_exceeded);
+  EXPECT_FALSE(codec::encode(Announce{std::string(64, 'c'), "P", "OP1", 1, {}, kT}, storage).ok());
+  EXPECT_FALSE(codec::encode(Announce{"c", "P", "OP1", 1, std::vector<Param>(9), kT}, storage).ok());
+  EXPECT_FALSE(codec::encode(ContractorMessage{"c", "M", "OP1", 1, Failure{1, std::string(96, 'r')}}).ok());
+  EXPECT_TRUE(codec::encode(ContractorMessage{"c", std::string(31, 'x'), "OP1", 1, Confirm{1}}).ok());
+}
+
+TEST(Codec, DecodingRefusesMalformedSamples) {
+  auto s = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  s.body._d = static_cast<sf_cnp_ContractorKind>(7);
+  auto m = codec::decode(s);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.error().code, Errc::malformed);
+
+  codec::ParamStorage storage;
+  auto a = *codec::encode(Announce{"c", "P", "OP1", 1, {{"p", 1.0}}, kT}, storage);
+  a.params._length = 1000;  // more than the bound and than the buffer
+  EXPECT_FALSE(codec::decode(a).ok());
+  a.params._length = 1;
+  a.params._buffer = nullptr;
+  EXPECT_FALSE(codec::decode(a).ok());
+
+  // A string without its terminating NUL is read up to the array bound only.
+  auto t = *codec::encode(TransportRequest{"r", "P1", "A", "B", kT});
+  std::memset(t.from, 'z', sizeof(t.from));
+  auto r = codec::decode(t);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->from, std::string(sizeof(t.from), 'z'));
+}
+
+}  // namespace
+}  // namespace sf::negotiation

@@ -1,0 +1,145 @@
+"""Contract Net negotiation between separate OS processes over DDS on
+loopback (paper section IV.B): machines, conveyors and products each run as
+`smartfactory agent ...`. Checks that every entity has the paper's DDS layout
+(as it reports itself and as the built-in topics show it to others), that
+every operation is awarded once, confirmed and done, and that each route
+connects the product's previous place to the machine that won.
+"""
+import json
+import os
+import shutil
+import tempfile
+import uuid
+
+from sftest import Background, binary, check, fail, run
+
+PARTITION = f"cnp-it-{uuid.uuid4().hex[:8]}"
+COMMON = ["--partition", PARTITION, "--json"]
+MACHINES = {"M1": "OP1", "M2": "OP1,OP2", "M3": "OP2,OP3", "M4": "OP3"}
+CONVEYORS = [("C1", "Input", "M1"), ("C2", "Input", "M2"), ("C3", "M1", "M2"), ("C4", "M1", "M3"),
+             ("C5", "M2", "M3"), ("C6", "M2", "M4"), ("C7", "M3", "M4")]
+PRODUCTS = {"P": ("OP1,OP2,OP3", 3, "Input"), "Q": ("OP2,OP3", 2, "M1")}
+
+
+def events(text):
+    out = []
+    for line in text.splitlines():
+        if line.startswith("{"):
+            try:
+                out.append(json.loads(line))
+            except json.JSONDecodeError:
+                fail(f"not JSON: {line}")
+    return out
+
+
+def topics(endpoints):
+    return sorted(e["topic"] for e in endpoints)
+
+
+def check_layout(name, evs, expected):
+    layouts = [e for e in evs if e["event"] == "layout"]
+    check(len(layouts) == 1, f"{name} reports its layout once")
+    got = {p["domain"]: (topics(p["readers"]), topics(p["writers"])) for p in layouts[0]["participants"]}
+    check(got == expected, f"{name} layout {got} == {expected}")
+
+
+def expected_product_layout(ops):
+    ops = ops.split(",")
+    return {10: (sorted(f"{o}_BID" for o in ops), sorted([f"{o}_ANNOUNCE" for o in ops] + [f"{o}_AWARD" for o in ops])),
+            11: (["INFORM"], ["REQUEST"])}
+
+
+def expected_machine_layout(ops):
+    ops = ops.split(",")
+    return {10: (sorted([f"{o}_ANNOUNCE" for o in ops] + [f"{o}_AWARD" for o in ops]), sorted(f"{o}_BID" for o in ops))}
+
+
+def main():
+    sf = binary()
+    tmp = tempfile.mkdtemp(prefix="cnp-it-")
+    agents = {}
+    try:
+        for name, ops in MACHINES.items():
+            agents[name] = Background([sf, "agent", "machine", "--name", name, "--ops", ops, "--work-ms", "30",
+                                       "--layout"] + COMMON, log=os.path.join(tmp, f"{name}.log"))
+        for name, a, b in CONVEYORS:
+            agents[name] = Background([sf, "agent", "conveyor", "--name", name, "--from", a, "--to", b,
+                                       "--transit-ms", "500", "--layout"] + COMMON, log=os.path.join(tmp, f"{name}.log"))
+        products = {}
+        for name, (ops, count, start) in PRODUCTS.items():
+            products[name] = Background([sf, "agent", "product", "--name", name, "--ops", ops, "--count", str(count),
+                                         "--start", start, "--timeout", "60", "--layout"] + COMMON,
+                                        log=os.path.join(tmp, f"{name}.log"))
+        for name, p in products.items():
+            try:
+                p.proc.wait(timeout=90)
+            except Exception:
+                fail(f"product {name} did not finish:\n{p.output()}")
+            check(p.proc.returncode == 0, f"product process {name} exits 0\n{p.output() if p.proc.returncode else ''}")
+
+        # The layout as every other participant sees it (built-in topics), while all agents run.
+        seen = json.loads(run([sf, "cnp", "layout", "--partition", PARTITION, "--json"]).stdout)
+        by_name = {}
+        for p in seen:
+            by_name.setdefault(p["participant"], {})[p["domain"]] = (topics(p["readers"]), topics(p["writers"]))
+        for name, ops in MACHINES.items():
+            check(by_name.get(f"machine/{name}") == expected_machine_layout(ops), f"discovered layout of machine {name}")
+        for name, _, _ in CONVEYORS:
+            check(by_name.get(f"conveyor/{name}") == {11: (["REQUEST"], ["INFORM"])}, f"discovered layout of {name}")
+    finally:
+        for a in agents.values():
+            a.stop()
+
+    outputs = {name: events(a.output()) for name, a in {**agents, **products}.items()}
+    for name, ops in MACHINES.items():
+        check_layout(name, outputs[name], expected_machine_layout(ops))
+    for name, _, _ in CONVEYORS:
+        check_layout(name, outputs[name], {11: (["REQUEST"], ["INFORM"])})
+    for name, (ops, _, _) in PRODUCTS.items():
+        check_layout(name, outputs[name], expected_product_layout(ops))
+
+    # Who worked what, from the machines' own reports.
+    started, done = {}, {}
+    for name in MACHINES:
+        for e in outputs[name]:
+            if e["event"] == "start":
+                started.setdefault(e["conversation"], []).append(name)
+            if e["event"] == "done":
+                done.setdefault(e["conversation"], []).append(name)
+
+    total = 0
+    for name, (ops, count, start) in PRODUCTS.items():
+        evs = outputs[name]
+        summary = [e for e in evs if e["event"] == "summary"]
+        check(summary and summary[0]["succeeded"] == count and summary[0]["failed"] == 0,
+              f"{name}: all {count} products succeeded")
+        for i in range(1, count + 1):
+            product = f"{name}-{i}" if count > 1 else name
+            mine = [e for e in evs if e.get("product") == product]
+            awards = [e for e in mine if e["event"] == "award"]
+            steps = [e for e in mine if e["event"] == "done"]
+            routes = [e for e in mine if e["event"] == "route"]
+            check([a["operation"] for a in awards] == ops.split(","), f"{product}: one award per operation, in order")
+            check([s["operation"] for s in steps] == ops.split(","), f"{product}: every operation done once")
+            at = start
+            for award, step, route in zip(awards, steps, routes):
+                conv = award["conversation"]
+                total += 1
+                check(award["contractor"] in MACHINES and award["operation"] in MACHINES[award["contractor"]].split(","),
+                      f"{conv}: awarded to {award['contractor']}, which offers {award['operation']}")
+                check(started.get(conv) == [award["contractor"]], f"{conv}: worked by exactly {award['contractor']}")
+                check(done.get(conv) == [award["contractor"]], f"{conv}: INFORM-DONE from exactly {award['contractor']}")
+                check(route["from"] == at and route["to"] == award["contractor"],
+                      f"{product}: route {route['from']} -> {route['to']} leads from {at} to {award['contractor']}")
+                hop = at
+                for seg in route["segments"]:
+                    check(seg["from"] == hop, f"{product}: segment {seg['conveyor']} starts where the last ended")
+                    hop = seg["to"]
+                check(hop == award["contractor"], f"{product}: segments end at {award['contractor']}")
+                at = award["contractor"]
+    check(total == 3 * 3 + 2 * 2, f"{total} negotiations checked")
+    shutil.rmtree(tmp, ignore_errors=True)  # kept only when a check failed
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,269 @@
+#include "ecat_session.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <thread>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "sf/ethercat/master/cia402.hpp"
+#include "sf/ethercat/master/cyclic_runner.hpp"
+
+namespace sf::app {
+namespace {
+
+namespace ecat = sf::ethercat;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+double us(std::chrono::nanoseconds d) { return static_cast<double>(d.count()) / 1000.0; }
+
+json histogram_json(const ecat::master::DurationHistogram& h) {
+  return json{{"min", us(h.min())},
+              {"median", us(h.median())},
+              {"p99", us(h.quantile(0.99))},
+              {"max", us(h.max())},
+              {"count", h.count()}};
+}
+
+// Exercises the outputs every cycle: digital outputs (objects 0x7000–0x7FFF)
+// count the cycles, so a capture or the devices show the data moving.
+void write_pattern(ecat::master::Master& master, std::uint64_t cycle) {
+  for (std::size_t i = 0; i < master.slave_count(); ++i) {
+    auto view = master.slave(i);
+    const auto* mapping = view.mapping();
+    if (mapping == nullptr) {
+      continue;
+    }
+    for (const auto& pdo : mapping->outputs) {
+      for (const auto& e : pdo.entries) {
+        if (e.index >= 0x7000 && e.index <= 0x7FFF && e.bit_length > 0) {
+          const auto mask = e.bit_length >= 64 ? ~0ULL : ((1ULL << e.bit_length) - 1U);
+          ecat::master::write_bits(view.outputs(), e.bit_offset, e.bit_length, (cycle + i) & mask);
+        }
+      }
+    }
+  }
+}
+
+json slaves_json(ecat::master::Master& master) {
+  json out = json::array();
+  for (std::size_t i = 0; i < master.slave_count(); ++i) {
+    const auto& info = master.slave_info(i);
+    auto state = master.read_state(i);
+    auto view = master.slave(i);
+    std::string state_text = state ? state->to_string() : "lost";
+    out.push_back({{"position", i},
+                   {"name", info.name()},
+                   {"state", state_text},
+                   {"al_status_code", info.al_status_code},
+                   {"outputs", to_hex(view.outputs(), 4096)},
+                   {"inputs", to_hex(view.inputs(), 4096)}});
+  }
+  return out;
+}
+
+// Every CiA 402 axis of every drive in the segment, enabled.
+std::vector<ecat::master::Cia402Axis> attach_axes(ecat::master::Master& master) {
+  std::vector<ecat::master::Cia402Axis> axes;
+  for (std::size_t i = 0; i < master.slave_count(); ++i) {
+    for (unsigned a = 0; a < 64; ++a) {
+      auto axis = ecat::master::Cia402Axis::attach(master, i, a);
+      if (!axis) {
+        break;
+      }
+      axis->enable();
+      axes.push_back(std::move(*axis));
+    }
+  }
+  return axes;
+}
+
+// Each enabled axis follows a slow sine (±20 000 counts, 2 s period, phase
+// by axis), the kind of set-point stream a SCARA controller sends.
+void move_axes(std::vector<ecat::master::Cia402Axis>& axes, std::uint64_t cycle, std::chrono::nanoseconds period) {
+  constexpr double kTwoPi = 6.283185307179586;
+  const double t = static_cast<double>(cycle) * static_cast<double>(period.count()) * 1e-9;
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    auto& axis = axes[k];
+    if (axis.enabled()) {
+      const double phase = static_cast<double>(k) * 0.4;
+      axis.set_target_position(static_cast<std::int32_t>(20000.0 * std::sin(kTwoPi * t / 2.0 + phase)));
+    }
+    axis.update();
+  }
+}
+
+json axes_json(const std::vector<ecat::master::Cia402Axis>& axes) {
+  json out = json::array();
+  for (const auto& axis : axes) {
+    out.push_back({{"slave", axis.slave_position()},
+                   {"axis", axis.axis()},
+                   {"state", std::string{ecat::master::cia402::to_string(axis.state())}},
+                   {"target", axis.target_position()},
+                   {"actual", axis.actual_position()}});
+  }
+  return out;
+}
+
+void print_text(const ecat::master::Master& master, const json& result) {
+  const auto& s = master.statistics();
+  std::printf("%s\n", s.summary().c_str());
+  for (const auto& slave : result["slaves"]) {
+    std::printf("  slave %-3d %-28s %s\n", slave["position"].get<int>(), slave["name"].get<std::string>().c_str(),
+                slave["state"].get<std::string>().c_str());
+  }
+}
+
+}  // namespace
+
+void add_link_options(CLI::App& command, LinkChoice& link) {
+  auto* iface = command.add_option("--iface", link.iface, "Network interface of the EtherCAT segment (needs root)");
+  auto* sim = command.add_option("--sim", link.sim,
+                                 "No interface: emulate this segment in-process, e.g. "
+                                 "smart-controller:1,digital-io:2,servo:1");
+  iface->excludes(sim);
+  sim->excludes(iface);
+  command.add_option("--pcap", link.pcap, "Record every frame the master sends and receives to this pcap file");
+}
+
+void set_input_pattern(ecat::slave::Segment& segment) {
+  for (std::size_t i = 0; i < segment.size(); ++i) {
+    if (auto* io = segment.device<ecat::slave::DigitalIo>(i)) {
+      io->set_inputs(static_cast<std::uint8_t>(0xA0U + i));
+    } else if (auto* drive = segment.device<ecat::slave::DriveDevice>(i); drive && drive->has_digital_io()) {
+      drive->set_digital_inputs(0x5A5A0000U + static_cast<std::uint32_t>(i));
+    }
+  }
+}
+
+Result<std::unique_ptr<ecat::Link>> open_link(const LinkChoice& choice, const Clock& clock) {
+  auto raw = ecat::RawSocketLink::open(choice.iface);
+  if (!raw) {
+    return raw.error();
+  }
+  std::unique_ptr<ecat::Link> link = std::move(*raw);
+  if (!choice.pcap.empty()) {
+    auto tap = ecat::PcapTap::open(std::move(link), choice.pcap, clock);
+    if (!tap) {
+      return tap.error();
+    }
+    link = std::move(*tap);
+  }
+  return link;
+}
+
+Result<std::unique_ptr<EcatSession>> EcatSession::open(const LinkChoice& choice,
+                                                       ecat::master::MasterOptions options) {
+  auto& clock = SteadyClock::instance();
+  std::unique_ptr<EcatSession> s{new EcatSession};
+  if (choice.iface.empty() && choice.sim.empty()) {
+    return Error{Errc::invalid_argument, "one of --iface IF or --sim SPEC is required"};
+  }
+  if (!choice.sim.empty()) {
+    auto segment = ecat::slave::Segment::create(choice.sim, clock);
+    if (!segment) {
+      return segment.error().with_context("--sim");
+    }
+    s->segment_ = std::move(*segment);
+    set_input_pattern(*s->segment_);
+    auto pair = ecat::make_memory_link_pair();
+    s->segment_link_ = std::move(pair.b);
+    s->runner_ = std::make_unique<ecat::slave::SegmentRunner>(*s->segment_, *s->segment_link_);
+    (void)try_realtime(70);  // the segment's thread inherits it where permitted
+    SF_TRY(s->runner_->start());
+    s->link_ = std::move(pair.a);
+    if (!choice.pcap.empty()) {
+      auto tap = ecat::PcapTap::open(std::move(s->link_), choice.pcap, clock);
+      if (!tap) {
+        return tap.error();
+      }
+      s->link_ = std::move(*tap);
+    }
+  } else {
+    auto link = open_link(choice, clock);
+    if (!link) {
+      return link.error();
+    }
+    s->link_ = std::move(*link);
+  }
+  s->master_ = std::make_unique<ecat::master::Master>(*s->link_, clock, options);
+  return s;
+}
+
+EcatSession::~EcatSession() {
+  master_.reset();
+  if (runner_) {
+    runner_->stop();
+  }
+}
+
+int run_cyclic(const RunOptions& o) {
+  ecat::master::MasterOptions options;
+  options.distributed_clocks = o.dc;
+  auto session = EcatSession::open(o.link, options);
+  if (!session) {
+    std::cerr << "ecat run: " << session.error().describe() << "\n";
+    return kExitFailure;
+  }
+  auto& master = (*session)->master();
+  auto& clock = master.clock();
+  std::fprintf(stderr, "ecat run: scanning, configuring and bringing the segment to OP...\n");
+  if (auto st = master.bring_up(ecat::AlState::Op); !st) {
+    std::cerr << "ecat run: " << st.error().describe() << "\n";
+    return kExitFailure;
+  }
+  const auto period = std::chrono::microseconds{o.cycle_us};
+  std::vector<ecat::master::Cia402Axis> axes = attach_axes(master);
+  master.statistics().reset();
+  ecat::master::CyclicRunner runner{master, ecat::master::CyclicOptions{period, true, 80, true}};
+  std::uint64_t cycle = 0;
+  auto st = runner.start([&](ecat::master::Master& m, const ecat::master::ExchangeResult&) {
+    write_pattern(m, cycle);
+    move_axes(axes, cycle, period);
+    ++cycle;
+  });
+  if (!st) {
+    std::cerr << "ecat run: " << st.error().describe() << "\n";
+    return kExitFailure;
+  }
+  std::fprintf(stderr, "ecat run: %zu slaves in OP, %zu CiA 402 axes; %u us cycle for %.1f s%s\n",
+               master.slave_count(), axes.size(), o.cycle_us, o.duration_s,
+               runner.realtime_active() ? " (SCHED_FIFO)" : "");
+  install_stop_signals();
+  const auto end = clock.now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                     std::chrono::duration<double>{o.duration_s});
+  while (clock.now() < end && !stop_requested()) {
+    std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(end - clock.now(), 1s));
+    if (!o.json) {
+      std::fprintf(stderr, "ecat run: %s\n", runner.statistics().summary().c_str());
+    }
+  }
+  runner.stop();
+  // The cycle callback prepared outputs for a cycle that never ran: send them,
+  // so the image reports exactly what the devices last received.
+  for (int attempt = 0; attempt < 3 && !master.exchange().received; ++attempt) {
+  }
+  const auto& stats = master.statistics();
+  json result{{"cycles", stats.cycles},
+              {"lost_frames", stats.lost_frames},
+              {"wkc_errors", stats.wkc_errors},
+              {"cycle_us", o.cycle_us},
+              {"round_trip_us", histogram_json(stats.round_trip)},
+              {"jitter_us", histogram_json(stats.jitter)},
+              {"realtime", runner.realtime_active()},
+              {"lost_slaves", master.lost_slaves()}};
+  result["slaves"] = slaves_json(master);
+  result["axes"] = axes_json(axes);
+  if (o.json) {
+    std::cout << result.dump(2) << "\n";
+  } else {
+    print_text(master, result);
+  }
+  return kExitOk;
+}
+
+}  // namespace sf::app

@@ -1,0 +1,187 @@
+// CoE SDO client (ETG.1000.6 §5.6.2, the CiA 301 SDO protocol in a mailbox):
+//   upload:   initiate upload → expedited (≤ 4 bytes inline) or normal
+//             (complete size + first data), then upload segments until the
+//             last one, toggling bit 4 each time;
+//   download: expedited for ≤ 4 bytes, else normal with as much as fits in
+//             the first message and download segments for the rest.
+// An abort from the slave becomes an Errc::remote error with the code's text.
+#include <algorithm>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "sf/ethercat/mailbox.hpp"
+#include "sf/ethercat/master/master.hpp"
+
+namespace sf::ethercat::master {
+namespace {
+
+// Unrelated mailbox traffic (emergencies, stale answers) we skip while
+// waiting for the answer to our request.
+constexpr int kMaxSkippedMessages = 8;
+
+std::string object_name(std::uint16_t index, std::uint8_t subindex) {
+  return fmt::format("0x{:04x}:{:02x}", index, subindex);
+}
+
+// Sends one SDO request and returns the slave's SDO response.
+Result<SdoResponse> sdo_exchange(Master& m, std::size_t position, const SdoRequest& request,
+                                 std::uint16_t index, std::uint8_t subindex) {
+  const auto counter = m.next_mailbox_counter(position);
+  auto message = make_sdo_request(request, counter);
+  if (!message) {
+    return message.error();
+  }
+  SF_TRY(m.mailbox_write(position, *message));
+  for (int skipped = 0; skipped <= kMaxSkippedMessages; ++skipped) {
+    auto buffer = m.mailbox_read(position, m.options().mailbox_timeout);
+    if (!buffer) {
+      return buffer.error();
+    }
+    auto mailbox = decode_mailbox(*buffer);
+    if (!mailbox) {
+      return mailbox.error().with_context(fmt::format("slave {} mailbox", position));
+    }
+    if (mailbox->header.type == MailboxType::Err) {
+      auto err = decode_mailbox_error(mailbox->data);
+      return make_error(Errc::remote, fmt::format("slave {}: mailbox error {}", position,
+                                                  err ? describe(*err) : std::string_view{"(malformed)"}));
+    }
+    if (mailbox->header.type != MailboxType::CoE) {
+      continue;
+    }
+    auto coe = decode_coe(*buffer);
+    if (!coe) {
+      return coe.error().with_context(fmt::format("slave {} CoE", position));
+    }
+    if (coe->coe.service != CoeService::SdoResponse) {
+      continue;  // e.g. an emergency
+    }
+    auto response = decode_sdo_response(coe->body);
+    if (!response) {
+      return response.error().with_context(
+          fmt::format("slave {} SDO {}", position, object_name(index, subindex)));
+    }
+    if (const auto* abort = std::get_if<SdoAbort>(&*response)) {
+      return make_error(Errc::remote, fmt::format("slave {}: {}", position, describe(*abort)));
+    }
+    return response;
+  }
+  return make_error(Errc::malformed,
+                    fmt::format("slave {}: no SDO response for {}", position, object_name(index, subindex)));
+}
+
+}  // namespace
+
+Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std::uint8_t subindex,
+                                 bool complete_access) {
+  if (position >= slaves_.size() || !slaves_[position].mailbox.coe()) {
+    return make_error(Errc::unsupported, fmt::format("slave {} has no CoE mailbox", position));
+  }
+  std::lock_guard lock(control_mutex_);
+  auto first = sdo_exchange(*this, position, SdoInitiateUploadRequest{index, subindex, complete_access},
+                            index, subindex);
+  if (!first) {
+    return first.error();
+  }
+  const auto* initiate = std::get_if<SdoInitiateUploadResponse>(&*first);
+  if (initiate == nullptr || initiate->index != index || initiate->subindex != subindex) {
+    return make_error(Errc::malformed, fmt::format("slave {}: unexpected answer to upload of {}", position,
+                                                   object_name(index, subindex)));
+  }
+  Bytes data = initiate->data;
+  if (initiate->expedited || data.size() >= initiate->complete_size) {
+    return data;
+  }
+  // Segmented: upload segments until the last one (ETG.1000.6 §5.6.2.5).
+  const std::uint32_t total = initiate->complete_size;
+  bool toggle = false;
+  while (true) {
+    auto next = sdo_exchange(*this, position, SdoUploadSegmentRequest{toggle}, index, subindex);
+    if (!next) {
+      return next.error();
+    }
+    const auto* segment = std::get_if<SdoUploadSegmentResponse>(&*next);
+    if (segment == nullptr || segment->toggle != toggle) {
+      return make_error(Errc::malformed, fmt::format("slave {}: bad upload segment for {}", position,
+                                                     object_name(index, subindex)));
+    }
+    data.insert(data.end(), segment->data.begin(), segment->data.end());
+    if (data.size() > total) {
+      return make_error(Errc::malformed,
+                        fmt::format("slave {}: upload of {} sent {} bytes, announced {}", position,
+                                    object_name(index, subindex), data.size(), total));
+    }
+    if (segment->last) {
+      break;
+    }
+    toggle = !toggle;
+  }
+  if (data.size() != total) {
+    return make_error(Errc::malformed,
+                      fmt::format("slave {}: upload of {} ended after {} of {} bytes", position,
+                                  object_name(index, subindex), data.size(), total));
+  }
+  return data;
+}
+
+Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint8_t subindex, ByteSpan data,
+                            bool complete_access) {
+  if (position >= slaves_.size() || !slaves_[position].mailbox.coe()) {
+    return make_error(Errc::unsupported, fmt::format("slave {} has no CoE mailbox", position));
+  }
+  if (data.empty()) {
+    return make_error(Errc::invalid_argument, "SDO download of no data");
+  }
+  std::lock_guard lock(control_mutex_);
+  const std::size_t mailbox_size = slaves_[position].mailbox.rx_size;
+  SdoInitiateDownloadRequest request;
+  request.index = index;
+  request.subindex = subindex;
+  request.complete_access = complete_access;
+  request.complete_size = static_cast<std::uint32_t>(data.size());
+  request.expedited = data.size() <= 4;
+  request.size_indicated = true;
+  const std::size_t first_part =
+      request.expedited ? data.size() : std::min(data.size(), sdo_initiate_capacity(mailbox_size));
+  request.data.assign(data.begin(), data.begin() + static_cast<std::ptrdiff_t>(first_part));
+  auto answer = sdo_exchange(*this, position, request, index, subindex);
+  if (!answer) {
+    return answer.error();
+  }
+  const auto* initiate = std::get_if<SdoInitiateDownloadResponse>(&*answer);
+  if (initiate == nullptr || initiate->index != index || initiate->subindex != subindex) {
+    return make_error(Errc::malformed, fmt::format("slave {}: unexpected answer to download of {}", position,
+                                                   object_name(index, subindex)));
+  }
+  // Segmented: the rest in download segments (ETG.1000.6 §5.6.2.3).
+  const std::size_t segment_size = std::max<std::size_t>(1, sdo_segment_capacity(mailbox_size));
+  bool toggle = false;
+  for (std::size_t at = first_part; at < data.size(); at += segment_size) {
+    SdoDownloadSegmentRequest segment;
+    segment.toggle = toggle;
+    const auto n = std::min(segment_size, data.size() - at);
+    segment.last = at + n == data.size();
+    segment.data.assign(data.begin() + static_cast<std::ptrdiff_t>(at),
+                        data.begin() + static_cast<std::ptrdiff_t>(at + n));
+    auto next = sdo_exchange(*this, position, segment, index, subindex);
+    if (!next) {
+      return next.error();
+    }
+    const auto* ack = std::get_if<SdoDownloadSegmentResponse>(&*next);
+    if (ack == nullptr || ack->toggle != toggle) {
+      return make_error(Errc::malformed, fmt::format("slave {}: bad download segment answer for {}", position,
+                                                     object_name(index, subindex)));
+    }
+    toggle = !toggle;
+  }
+  if (!process_data_configured_) {
+    // Start-up configuration (e.g. a PDO remapping): the slave loses it with
+    // its power, the recovery writes it again.
+    slaves_[position].startup_sdos.push_back(
+        StartupSdo{index, subindex, complete_access, Bytes(data.begin(), data.end())});
+  }
+  return {};
+}
+
+}  // namespace sf::ethercat::master

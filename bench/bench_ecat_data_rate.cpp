@@ -33,8 +33,8 @@ ecat::Frame cycle_frame(std::size_t data_bytes, bool with_dc) {
   ecat::Frame f;
   f.datagrams.push_back({ecat::Command::LRW, 1, 0x00010000, 0, false, sf::Bytes(data_bytes), 0});
   if (with_dc) {
-    f.datagrams.push_back({ecat::Command::FRMW, 2, ecat::Datagram::physical(0x1001, 0x0910), 0, false,
-                           sf::Bytes(8), 0});
+    f.datagrams.push_back(
+        {ecat::Command::FRMW, 2, ecat::Datagram::physical(0x1001, 0x0910), 0, false, sf::Bytes(8), 0});
   }
   return f;
 }
@@ -61,7 +61,8 @@ int main() {
   ecat::Frame single;
   single.datagrams.push_back({ecat::Command::FPRW, 1, 0, 0, false, sf::Bytes(4), 0});
   const std::size_t slice_wire = wire_bytes(single);
-  std::printf("time-slice, 4 bytes per frame: paper 4/(84+4) = %.2f %%, minimal frame of %zu wire bytes = %.2f %%\n",
-              100.0 * 4 / 88, slice_wire, 100.0 * 4 / static_cast<double>(slice_wire));
+  std::printf(
+      "time-slice, 4 bytes per frame: paper 4/(84+4) = %.2f %%, minimal frame of %zu wire bytes = %.2f %%\n",
+      100.0 * 4 / 88, slice_wire, 100.0 * 4 / static_cast<double>(slice_wire));
   return 0;
 }

@@ -23,7 +23,9 @@ using namespace std::chrono_literals;
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
-extern "C" void on_signal(int /*sig*/) { g_stop = 1; }
+extern "C" void on_signal(int /*sig*/) {
+  g_stop = 1;
+}
 
 int serve(ecat::Link& link) {
   std::array<std::uint8_t, ecat::kMaxFrameSize + 4> buf{};
@@ -44,7 +46,9 @@ int serve(ecat::Link& link) {
   return 0;
 }
 
-double us(std::chrono::nanoseconds d) { return static_cast<double>(d.count()) / 1000.0; }
+double us(std::chrono::nanoseconds d) {
+  return static_cast<double>(d.count()) / 1000.0;
+}
 
 int ping(ecat::Link& link, std::size_t size, double rate_hz, double seconds) {
   ecat::Frame frame;
@@ -62,7 +66,8 @@ int ping(ecat::Link& link, std::size_t size, double rate_hz, double seconds) {
   std::uint64_t lost = 0;
   std::array<std::uint8_t, ecat::kMaxFrameSize + 4> buf{};
   const auto start = clock.now();
-  const auto end = start + std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>{seconds});
+  const auto end =
+      start + std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>{seconds});
   const auto period = rate_hz > 0 ? std::chrono::nanoseconds{static_cast<std::int64_t>(1e9 / rate_hz)} : 0ns;
   auto next = start;
   while (clock.now() < end && g_stop == 0) {
@@ -82,7 +87,8 @@ int ping(ecat::Link& link, std::size_t size, double rate_hz, double seconds) {
       if (!n || *n == 0) {
         break;
       }
-      back = buf[ecat::kEthernetHeaderSize + ecat::kEcatHeaderSize + 1] == static_cast<std::uint8_t>(sent - 1);
+      back =
+          buf[ecat::kEthernetHeaderSize + ecat::kEcatHeaderSize + 1] == static_cast<std::uint8_t>(sent - 1);
     }
     if (back) {
       rtt.record(clock.now() - t0);
@@ -92,10 +98,12 @@ int ping(ecat::Link& link, std::size_t size, double rate_hz, double seconds) {
   }
   const double elapsed = std::chrono::duration<double>(clock.now() - start).count();
   std::printf(
-      "{\"frames\": %llu, \"lost\": %llu, \"frames_per_s\": %.1f, \"round_trip_us\": {\"min\": %.2f, \"median\": %.2f, "
+      "{\"frames\": %llu, \"lost\": %llu, \"frames_per_s\": %.1f, \"round_trip_us\": {\"min\": %.2f, "
+      "\"median\": %.2f, "
       "\"p99\": %.2f, \"max\": %.2f}}\n",
       static_cast<unsigned long long>(sent), static_cast<unsigned long long>(lost),
-      static_cast<double>(sent) / elapsed, us(rtt.min()), us(rtt.median()), us(rtt.quantile(0.99)), us(rtt.max()));
+      static_cast<double>(sent) / elapsed, us(rtt.min()), us(rtt.median()), us(rtt.quantile(0.99)),
+      us(rtt.max()));
   return 0;
 }
 

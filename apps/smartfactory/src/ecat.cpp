@@ -127,8 +127,9 @@ int run_sim(const SimOptions& o) {
 
 std::vector<std::string> mailbox_protocols(std::uint16_t bits) {
   static constexpr std::pair<std::uint16_t, const char*> kNames[] = {
-      {ecat::sii::protocol::kAoE, "AoE"}, {ecat::sii::protocol::kEoE, "EoE"}, {ecat::sii::protocol::kCoE, "CoE"},
-      {ecat::sii::protocol::kFoE, "FoE"}, {ecat::sii::protocol::kSoE, "SoE"}, {ecat::sii::protocol::kVoE, "VoE"}};
+      {ecat::sii::protocol::kAoE, "AoE"}, {ecat::sii::protocol::kEoE, "EoE"},
+      {ecat::sii::protocol::kCoE, "CoE"}, {ecat::sii::protocol::kFoE, "FoE"},
+      {ecat::sii::protocol::kSoE, "SoE"}, {ecat::sii::protocol::kVoE, "VoE"}};
   std::vector<std::string> out;
   for (const auto& [bit, name] : kNames) {
     if ((bits & bit) != 0) {
@@ -155,7 +156,7 @@ json scan_json(const ecat::master::Master& master, const Mappings& pdo) {
                       {"output_bits", map.output_bits},
                       {"pdo_source", map.source == ecat::master::PdoMapping::Source::coe   ? "CoE"
                                      : map.source == ecat::master::PdoMapping::Source::sii ? "SII"
-                                                                                            : "none"},
+                                                                                           : "none"},
                       {"mailbox", s.mailbox.present() ? mailbox_protocols(s.mailbox.protocols)
                                                       : std::vector<std::string>{}},
                       {"dc", s.esc.dc_supported()}});
@@ -172,9 +173,9 @@ void print_scan_table(const ecat::master::Master& master, const Mappings& pdo) {
       mbx += (mbx.empty() ? "" : ",") + p;
     }
     std::printf("%-4u 0x%04x  0x%08x 0x%08x 0x%08x %-40s %6u %6u %-9s %s\n", s.position, s.station,
-                s.sii.identity.vendor_id, s.sii.identity.product_code, s.sii.identity.revision, s.name().c_str(),
-                pdo.at(s.position).input_bits, pdo.at(s.position).output_bits, mbx.empty() ? "-" : mbx.c_str(),
-                s.esc.dc_supported() ? "yes" : "no");
+                s.sii.identity.vendor_id, s.sii.identity.product_code, s.sii.identity.revision,
+                s.name().c_str(), pdo.at(s.position).input_bits, pdo.at(s.position).output_bits,
+                mbx.empty() ? "-" : mbx.c_str(), s.esc.dc_supported() ? "yes" : "no");
   }
 }
 
@@ -223,14 +224,18 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   auto sim = std::make_shared<SimOptions>();
   auto* sim_cmd = ecat_cmd->add_subcommand(
       "sim", "Emulate a segment of EtherCAT slaves on an interface until signalled (SIGINT/SIGTERM)");
-  sim_cmd->add_option("--iface", sim->iface, "Network interface to answer frames on (e.g. a veth end)")->required();
-  sim_cmd->add_option("--slaves", sim->slaves, "Segment, in ring order: KIND[:COUNT],... with KIND one of "
-                                               "smart-controller, digital-io, servo")
+  sim_cmd->add_option("--iface", sim->iface, "Network interface to answer frames on (e.g. a veth end)")
+      ->required();
+  sim_cmd
+      ->add_option("--slaves", sim->slaves,
+                   "Segment, in ring order: KIND[:COUNT],... with KIND one of "
+                   "smart-controller, digital-io, servo")
       ->required();
   sim_cmd->add_option("--pcap", sim->pcap, "Record every frame received and sent to this pcap file");
   sim_cmd->add_option("--drop-rate", sim->drop_rate, "Probability (0..1) that a frame is lost in the segment")
       ->check(CLI::Range(0.0, 1.0));
-  sim_cmd->add_option("--report", sim->report, "On exit, write each slave's state and process data as JSON here");
+  sim_cmd->add_option("--report", sim->report,
+                      "On exit, write each slave's state and process data as JSON here");
   sim_cmd->callback([sim, &result] { result.exit_code = run_sim(*sim); });
 
   auto scan = std::make_shared<MasterCliOptions>();
@@ -250,7 +255,8 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   run_cmd->add_option("--duration", run->duration_s, "How long to run, in seconds")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  run_cmd->add_flag("--no-dc", [run](std::int64_t) { run->dc = false; }, "Do not configure distributed clocks");
+  run_cmd->add_flag(
+      "--no-dc", [run](std::int64_t) { run->dc = false; }, "Do not configure distributed clocks");
   run_cmd->add_flag("--json", run->json, "Print the result as JSON");
   run_cmd->callback([run, &result] {
     result.exit_code = run_cyclic(RunOptions{run->link, run->json, run->cycle_us, run->duration_s, run->dc});

@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <thread>
 #include <iostream>
+#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -19,7 +19,9 @@ namespace ecat = sf::ethercat;
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-double us(std::chrono::nanoseconds d) { return static_cast<double>(d.count()) / 1000.0; }
+double us(std::chrono::nanoseconds d) {
+  return static_cast<double>(d.count()) / 1000.0;
+}
 
 json histogram_json(const ecat::master::DurationHistogram& h) {
   return json{{"min", us(h.min())},
@@ -84,7 +86,8 @@ std::vector<ecat::master::Cia402Axis> attach_axes(ecat::master::Master& master) 
 
 // Each enabled axis follows a slow sine (±20 000 counts, 2 s period, phase
 // by axis), the kind of set-point stream a SCARA controller sends.
-void move_axes(std::vector<ecat::master::Cia402Axis>& axes, std::uint64_t cycle, std::chrono::nanoseconds period) {
+void move_axes(std::vector<ecat::master::Cia402Axis>& axes, std::uint64_t cycle,
+               std::chrono::nanoseconds period) {
   constexpr double kTwoPi = 6.283185307179586;
   const double t = static_cast<double>(cycle) * static_cast<double>(period.count()) * 1e-9;
   for (std::size_t k = 0; k < axes.size(); ++k) {
@@ -113,21 +116,23 @@ void print_text(const ecat::master::Master& master, const json& result) {
   const auto& s = master.statistics();
   std::printf("%s\n", s.summary().c_str());
   for (const auto& slave : result["slaves"]) {
-    std::printf("  slave %-3d %-28s %s\n", slave["position"].get<int>(), slave["name"].get<std::string>().c_str(),
-                slave["state"].get<std::string>().c_str());
+    std::printf("  slave %-3d %-28s %s\n", slave["position"].get<int>(),
+                slave["name"].get<std::string>().c_str(), slave["state"].get<std::string>().c_str());
   }
 }
 
 }  // namespace
 
 void add_link_options(CLI::App& command, LinkChoice& link) {
-  auto* iface = command.add_option("--iface", link.iface, "Network interface of the EtherCAT segment (needs root)");
+  auto* iface =
+      command.add_option("--iface", link.iface, "Network interface of the EtherCAT segment (needs root)");
   auto* sim = command.add_option("--sim", link.sim,
                                  "No interface: emulate this segment in-process, e.g. "
                                  "smart-controller:1,digital-io:2,servo:1");
   iface->excludes(sim);
   sim->excludes(iface);
-  command.add_option("--pcap", link.pcap, "Record every frame the master sends and receives to this pcap file");
+  command.add_option("--pcap", link.pcap,
+                     "Record every frame the master sends and receives to this pcap file");
 }
 
 void set_input_pattern(ecat::slave::Segment& segment) {

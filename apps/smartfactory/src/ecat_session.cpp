@@ -51,6 +51,14 @@ void write_pattern(ecat::master::Master& master, std::uint64_t cycle) {
   }
 }
 
+std::size_t total_frame_bytes(const ecat::master::Master& master) {
+  std::size_t total = 0;
+  for (const auto size : master.cyclic_frame_sizes()) {
+    total += size;
+  }
+  return total;
+}
+
 json slaves_json(ecat::master::Master& master) {
   json out = json::array();
   for (std::size_t i = 0; i < master.slave_count(); ++i) {
@@ -260,6 +268,7 @@ int run_cyclic(const RunOptions& o) {
               {"round_trip_us", histogram_json(stats.round_trip)},
               {"jitter_us", histogram_json(stats.jitter)},
               {"realtime", runner.realtime_active()},
+              {"frame_bytes", total_frame_bytes(master)},
               {"lost_slaves", master.lost_slaves()}};
   result["slaves"] = slaves_json(master);
   result["axes"] = axes_json(axes);

@@ -116,4 +116,13 @@ std::size_t Master::receive_cyclic(std::chrono::steady_clock::time_point sent_at
   return pending;
 }
 
+std::vector<std::size_t> Master::cyclic_frame_sizes() const {
+  std::vector<std::size_t> sizes;
+  sizes.reserve(frames_.size());
+  for (const auto& f : frames_) {
+    sizes.push_back(f.tx.size());
+  }
+  return sizes;
+}
+
 }  // namespace sf::ethercat::master

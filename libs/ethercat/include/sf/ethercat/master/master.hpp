@@ -211,6 +211,9 @@ class Master {
   [[nodiscard]] const CycleStatistics& statistics() const { return stats_; }
   CycleStatistics& statistics() { return stats_; }
   [[nodiscard]] std::uint16_t expected_wkc() const;
+  // Bytes of the cyclic frames (Ethernet header included, no FCS), one entry
+  // per frame; empty before configure_process_data().
+  [[nodiscard]] std::vector<std::size_t> cyclic_frame_sizes() const;
 
   // ---- recovery.cpp --------------------------------------------------------
   // Reads every slave's AL status (one frame) and says who is missing or not

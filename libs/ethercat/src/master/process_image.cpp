@@ -27,7 +27,7 @@ std::uint64_t read_bits(ByteSpan data, std::size_t bit_offset, std::size_t bit_l
   std::uint64_t v = 0;
   for (std::size_t i = 0; i < bit_length; ++i) {
     const std::size_t b = bit_offset + i;
-    if (((data[b / 8] >> (b % 8)) & 1U) != 0) {
+    if (((unsigned{data[b / 8]} >> (b % 8)) & 1U) != 0) {
       v |= std::uint64_t{1} << i;
     }
   }

@@ -118,7 +118,7 @@ void EscCore::on_esc_reset(std::uint8_t value) {
 
 bool EscCore::loop_closed(unsigned port) const {
   const auto control =
-      static_cast<LoopControl>((mem_.get<std::uint8_t>(reg::kDlControl + 1U) >> (2U * port)) & 3U);
+      static_cast<LoopControl>((unsigned{mem_.get<std::uint8_t>(reg::kDlControl + 1U)} >> (2U * port)) & 3U);
   switch (control) {
     case LoopControl::open:
       return false;

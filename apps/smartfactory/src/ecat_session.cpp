@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -76,9 +77,15 @@ json slaves_json(ecat::master::Master& master) {
   return out;
 }
 
+// An axis of the demo motion and the cycle it reached operation enabled.
+struct MovingAxis {
+  ecat::master::Cia402Axis axis;
+  std::optional<std::uint64_t> since;
+};
+
 // Every CiA 402 axis of every drive in the segment, enabled.
-std::vector<ecat::master::Cia402Axis> attach_axes(ecat::master::Master& master) {
-  std::vector<ecat::master::Cia402Axis> axes;
+std::vector<MovingAxis> attach_axes(ecat::master::Master& master) {
+  std::vector<MovingAxis> axes;
   for (std::size_t i = 0; i < master.slave_count(); ++i) {
     for (unsigned a = 0; a < 64; ++a) {
       auto axis = ecat::master::Cia402Axis::attach(master, i, a);
@@ -86,31 +93,37 @@ std::vector<ecat::master::Cia402Axis> attach_axes(ecat::master::Master& master) 
         break;
       }
       axis->enable();
-      axes.push_back(std::move(*axis));
+      axes.push_back(MovingAxis{std::move(*axis), std::nullopt});
     }
   }
   return axes;
 }
 
-// Each enabled axis follows a slow sine (±20 000 counts, 2 s period, phase
-// by axis), the kind of set-point stream a SCARA controller sends.
-void move_axes(std::vector<ecat::master::Cia402Axis>& axes, std::uint64_t cycle,
-               std::chrono::nanoseconds period) {
+// Each axis, once enabled, swings between its start and +20 000 counts
+// along (1 - cos) / 2: it starts and turns at zero velocity, as a SCARA
+// set-point stream does; the period differs per axis (2 s + 0.25 s each).
+void move_axes(std::vector<MovingAxis>& axes, std::uint64_t cycle, std::chrono::nanoseconds period) {
   constexpr double kTwoPi = 6.283185307179586;
-  const double t = static_cast<double>(cycle) * static_cast<double>(period.count()) * 1e-9;
   for (std::size_t k = 0; k < axes.size(); ++k) {
-    auto& axis = axes[k];
-    if (axis.enabled()) {
-      const double phase = static_cast<double>(k) * 0.4;
-      axis.set_target_position(static_cast<std::int32_t>(20000.0 * std::sin(kTwoPi * t / 2.0 + phase)));
+    auto& m = axes[k];
+    if (!m.axis.enabled()) {
+      m.since.reset();
+    } else {
+      if (!m.since) {
+        m.since = cycle;
+      }
+      const double t = static_cast<double>(cycle - *m.since) * static_cast<double>(period.count()) * 1e-9;
+      const double swing_period = 2.0 + 0.25 * static_cast<double>(k);
+      m.axis.set_target_position(
+          static_cast<std::int32_t>(10000.0 * (1.0 - std::cos(kTwoPi * t / swing_period))));
     }
-    axis.update();
+    m.axis.update();
   }
 }
 
-json axes_json(const std::vector<ecat::master::Cia402Axis>& axes) {
+json axes_json(const std::vector<MovingAxis>& axes) {
   json out = json::array();
-  for (const auto& axis : axes) {
+  for (const auto& [axis, since] : axes) {
     out.push_back({{"slave", axis.slave_position()},
                    {"axis", axis.axis()},
                    {"state", std::string{ecat::master::cia402::to_string(axis.state())}},
@@ -126,6 +139,11 @@ void print_text(const ecat::master::Master& master, const json& result) {
   for (const auto& slave : result["slaves"]) {
     std::printf("  slave %-3d %-28s %s\n", slave["position"].get<int>(),
                 slave["name"].get<std::string>().c_str(), slave["state"].get<std::string>().c_str());
+  }
+  for (const auto& axis : result["axes"]) {
+    std::printf("  axis %d.%d %-20s target %8d actual %8d\n", axis["slave"].get<int>(),
+                axis["axis"].get<int>(), axis["state"].get<std::string>().c_str(), axis["target"].get<int>(),
+                axis["actual"].get<int>());
   }
 }
 
@@ -230,7 +248,7 @@ int run_cyclic(const RunOptions& o) {
     return kExitFailure;
   }
   const auto period = std::chrono::microseconds{o.cycle_us};
-  std::vector<ecat::master::Cia402Axis> axes = attach_axes(master);
+  std::vector<MovingAxis> axes = attach_axes(master);
   master.statistics().reset();
   ecat::master::CyclicRunner runner{master, ecat::master::CyclicOptions{period, true, 80, true}};
   std::uint64_t cycle = 0;

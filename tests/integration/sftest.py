@@ -23,6 +23,38 @@ def binary():
     return path
 
 
+def source_dir():
+    path = os.environ.get("SF_SOURCE_DIR") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    return path
+
+
+def node_peer(script):
+    """The command that runs one of tests/peers/*/ with node, or skips when node-opcua is absent."""
+    if shutil.which("node") is None:
+        skip("node is not installed (scripts/setup installs it)")
+    root = source_dir()
+    if not os.path.isdir(os.path.join(root, "node_modules", "node-opcua")):
+        skip("node-opcua is not installed (scripts/setup runs npm ci)")
+    return ["node", os.path.join(root, "tests", "peers", script)]
+
+
+def wait_for_line(background, prefix, timeout):
+    """Waits until the background process's log has a line starting with prefix; returns it."""
+    found = []
+
+    def has_line():
+        for line in background.output().splitlines():
+            if line.startswith(prefix):
+                found.append(line)
+                return True
+        if not background.alive():
+            fail(f"process exited before printing '{prefix}':\n{background.output()}")
+        return False
+
+    wait_for(has_line, timeout, f"a line starting with '{prefix}'")
+    return found[0]
+
+
 def fail(message):
     print(f"FAIL: {message}", file=sys.stderr, flush=True)
     sys.exit(1)

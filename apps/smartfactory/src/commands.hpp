@@ -32,5 +32,7 @@ void register_ecat(CLI::App& app, CommandResult& result);
 // `agent machine|conveyor|product` and `cnp bench` (negotiation module).
 void register_agent(CLI::App& app, CommandResult& result);
 void register_cnp(CLI::App& app, CommandResult& result);
+// `opcua server|browse|read|write|call|subscribe` (opcua module).
+void register_opcua(CLI::App& app, CommandResult& result);
 
 }  // namespace sf::app

@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
   sf::app::register_agent(app, result);
   sf::app::register_cnp(app, result);
 #endif
+#ifdef SF_HAVE_OPCUA
+  sf::app::register_opcua(app, result);
+#endif
 
   try {
     app.parse(argc, argv);

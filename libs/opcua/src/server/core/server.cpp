@@ -1,0 +1,200 @@
+#include "sf/opcua/server/server.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+
+#include "sf/core/log.hpp"
+#include "sf/opcua/server/ns0.hpp"
+#include "sf/opcua/status_codes.hpp"
+
+namespace sf::opcua::server {
+
+namespace {
+
+// The loop never sleeps longer than this between ticks, so a clock that jumps is caught up.
+constexpr auto kMaxTickDelay = std::chrono::milliseconds(1000);
+
+std::string host_name() {
+  std::array<char, 256> name{};
+  if (gethostname(name.data(), name.size() - 1) != 0 || name[0] == '\0') {
+    return "localhost";
+  }
+  return name.data();
+}
+
+BuildInfo build_info(const ServerConfig& config, const Clock& clock) {
+  BuildInfo info;
+  info.product_uri = config.identity.product_uri;
+  info.manufacturer_name = "smartfactory";
+  info.product_name = config.identity.application_name;
+  info.software_version = config.software_version;
+  info.build_number = config.software_version;
+  info.build_date = DateTime::from_system_clock(clock.utc_now());
+  return info;
+}
+
+}  // namespace
+
+Server::Server(ServerConfig config, const Clock& clock) : config_(std::move(config)), clock_(clock) {
+  if (config_.advertised_host.empty()) {
+    config_.advertised_host = host_name();
+  }
+  if (auto st = build_namespace0(space_); !st) {
+    // ns0 is generated and tested; failing here is a build defect, not an input problem.
+    log::get("opcua")->critical("namespace 0: {}", st.error().message);
+  }
+  // Namespace 1 is the server's own (OPC 10000-3 §8.2.2): its ApplicationUri.
+  space_.add_namespace(config_.identity.application_uri);
+
+  ServerObjectInfo info;
+  info.server_uris = {config_.identity.application_uri};
+  info.build_info = build_info(config_, clock_);
+  info.clock = &clock_;
+  info.state = [this] { return state_; };
+  info.operation_limits = config_.operations;
+  info.max_browse_continuation_points = static_cast<std::uint16_t>(
+      std::min<std::size_t>(config_.sessions.max_browse_continuation_points, UINT16_MAX));
+  if (auto st = install_server_object_callbacks(space_, std::move(info)); !st) {
+    log::get("opcua")->critical("Server object: {}", st.error().message);
+  }
+  thread_ = std::make_unique<net::LoopThread>();
+}
+
+Server::~Server() {
+  stop();
+}
+
+Status Server::start() {
+  if (transport_) {
+    return {};
+  }
+  Status result;
+  thread_->run_sync([&] {
+    auto transport_config = config_.transport;
+    ServerIdentity identity = config_.identity;
+    dispatcher_ = std::make_unique<Dispatcher>(space_, clock_, identity, config_.sessions,
+                                               config_.subscriptions, config_.operations);
+    dispatcher_->set_on_schedule_changed([this] { schedule_tick(); });
+    auto transport = ServerTransport::start(thread_->loop(), transport_config, *dispatcher_, clock_);
+    if (!transport) {
+      result = transport.error();
+      dispatcher_.reset();
+      return;
+    }
+    transport_ = std::move(*transport);
+    port_ = transport_->port();
+    state_ = ServerState::Running;
+    schedule_tick();
+  });
+  if (result) {
+    log::get("opcua")->info("OPC UA server listening on {} ({}:{})", endpoint_url(), config_.transport.host,
+                            port_);
+  }
+  return result;
+}
+
+void Server::stop() {
+  if (!thread_) {
+    return;
+  }
+  thread_->run_sync([this] {
+    state_ = ServerState::Shutdown;
+    if (tick_timer_ != 0) {
+      thread_->loop().cancel_timer(tick_timer_);
+      tick_timer_ = 0;
+    }
+    if (transport_) {
+      transport_->stop();
+      transport_.reset();
+    }
+    dispatcher_.reset();
+  });
+  thread_.reset();
+}
+
+void Server::with_address_space(const std::function<void(AddressSpace&)>& fn) {
+  if (!thread_) {
+    fn(space_);
+    return;
+  }
+  thread_->run_sync([&] { fn(space_); });
+}
+
+net::EventLoop& Server::loop() {
+  return thread_->loop();
+}
+
+void Server::raise_event(const NodeId& notifier, SubscriptionService::Event event) {
+  if (!thread_) {
+    return;
+  }
+  thread_->loop().post([this, notifier, event = std::move(event)] {
+    if (dispatcher_) {
+      dispatcher_->raise_event(notifier, event);
+    }
+  });
+}
+
+std::uint16_t Server::port() const {
+  return port_;
+}
+
+std::string Server::endpoint_url() const {
+  return "opc.tcp://" + config_.advertised_host + ":" + std::to_string(port_);
+}
+
+template <typename T>
+T Server::on_loop(const std::function<T()>& fn) {
+  T value{};
+  if (thread_) {
+    thread_->run_sync([&] { value = fn(); });
+  }
+  return value;
+}
+
+std::size_t Server::session_count() {
+  return on_loop<std::size_t>([this] { return dispatcher_ ? dispatcher_->session_count() : 0; });
+}
+
+std::size_t Server::subscription_count() {
+  return on_loop<std::size_t>(
+      [this] { return dispatcher_ ? dispatcher_->subscriptions().subscription_count() : 0; });
+}
+
+std::size_t Server::monitored_item_count() {
+  return on_loop<std::size_t>(
+      [this] { return dispatcher_ ? dispatcher_->subscriptions().monitored_item_count() : 0; });
+}
+
+// Keeps one timer armed at the dispatcher's next due time (a monitored item's sampling, a
+// publishing cycle, a session timeout).
+void Server::schedule_tick() {
+  if (!dispatcher_) {
+    return;
+  }
+  const auto now = clock_.now();
+  const auto due = std::min(dispatcher_->next_due(), now + kMaxTickDelay);
+  if (tick_timer_ != 0 && due >= tick_at_) {
+    return;
+  }
+  if (tick_timer_ != 0) {
+    thread_->loop().cancel_timer(tick_timer_);
+  }
+  tick_at_ = due;
+  const auto delay = std::max(Clock::duration::zero(), due - now);
+  tick_timer_ = thread_->loop().add_timer(delay, [this] { on_tick(); });
+}
+
+void Server::on_tick() {
+  tick_timer_ = 0;
+  tick_at_ = Clock::time_point::max();
+  if (dispatcher_) {
+    dispatcher_->tick();
+  }
+  schedule_tick();
+}
+
+}  // namespace sf::opcua::server

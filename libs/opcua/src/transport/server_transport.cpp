@@ -1,0 +1,373 @@
+// ServerTransport: one SecureChannel per accepted TCP connection (OPC 10000-6 §7.1, §6.7).
+#include "sf/opcua/transport/server_transport.hpp"
+
+#include <map>
+
+#include <fmt/format.h>
+
+#include "sf/core/log.hpp"
+#include "sf/net/tcp.hpp"
+#include "sf/opcua/status_codes.hpp"
+#include "sf/opcua/transport/secure_channel.hpp"
+
+namespace sf::opcua {
+namespace {
+
+const sf::log::Logger& logger() {
+  static const auto log = sf::log::get("opcua");
+  return log;
+}
+
+// Timers are re-armed at least this often so a ManualClock that jumps is noticed.
+constexpr std::chrono::milliseconds kMaxTimerDelay{1000};
+
+class ServerConnection;
+
+}  // namespace
+
+struct ServerTransport::Impl : std::enable_shared_from_this<ServerTransport::Impl> {
+  Impl(net::EventLoop& l, ServerTransportConfig c, ServiceHandler& h, const Clock& k)
+      : loop(l), config(std::move(c)), handler(h), clock(k) {}
+
+  net::EventLoop& loop;
+  ServerTransportConfig config;
+  ServiceHandler& handler;
+  const Clock& clock;
+  std::unique_ptr<net::TcpListener> listener;
+  std::map<std::uint64_t, std::shared_ptr<ServerConnection>> connections;
+  std::uint64_t next_key = 1;
+  std::uint32_t next_channel_id = 1;
+  bool stopped = false;
+
+  void accept(std::shared_ptr<net::TcpConnection> tcp);
+  std::uint32_t allocate_channel_id();
+  void remove(std::uint64_t key);
+};
+
+namespace {
+
+class ServerConnection final : public ServerChannel, public std::enable_shared_from_this<ServerConnection> {
+ public:
+  ServerConnection(const std::shared_ptr<ServerTransport::Impl>& owner, std::uint64_t key,
+                   std::shared_ptr<net::TcpConnection> tcp, SecureChannelConfig config)
+      : owner_(owner),
+        loop_(owner->loop),
+        handler_(owner->handler),
+        clock_(owner->clock),
+        key_(key),
+        tcp_(std::move(tcp)),
+        channel_(std::move(config), owner->clock) {
+    info_.peer = tcp_->peer();
+  }
+
+  ~ServerConnection() override { cancel_timers(); }
+  ServerConnection(const ServerConnection&) = delete;
+  ServerConnection& operator=(const ServerConnection&) = delete;
+
+  void start(std::chrono::milliseconds hello_timeout) {
+    std::weak_ptr<ServerConnection> weak = weak_from_this();
+    tcp_->set_on_close([weak](const Status& status) {
+      if (auto self = weak.lock()) {
+        self->on_tcp_closed(status);
+      }
+    });
+    tcp_->set_on_data([weak](ByteSpan bytes) {
+      if (auto self = weak.lock()) {
+        self->channel_.receive(bytes);
+        self->pump();
+      }
+    });
+    // §7.1.2: a connection that does not open a secure channel in time is dropped.
+    hello_timer_ = loop_.add_timer(hello_timeout, [weak] {
+      if (auto self = weak.lock()) {
+        self->hello_timer_ = 0;
+        if (!self->channel_.is_open()) {
+          self->channel_.fail(status::BadTimeout, "no HEL/OPN in time");
+          self->pump();
+        }
+      }
+    });
+  }
+
+  [[nodiscard]] const ChannelInfo& info() const override { return info_; }
+
+  void send_response(std::uint32_t request_id, const Message& response) override {
+    if (!channel_.is_open()) {
+      logger()->debug("channel {}: response {} dropped, channel closed", info_.channel_id, request_id);
+      return;
+    }
+    (void)channel_.send_response(request_id, response);
+    pump();
+  }
+
+  void close() override {
+    channel_.close();
+    pump();
+  }
+
+  [[nodiscard]] bool is_open() const override { return channel_.is_open() && !finished_; }
+
+  // stop(): close without telling the owner (it is clearing its map).
+  void shut_down() {
+    detached_ = true;
+    channel_.close();
+    pump();
+  }
+
+ private:
+  // Moves output to the socket and acts on events until there is nothing left; safe to
+  // re-enter from a handler callback.
+  void pump() {
+    if (pumping_) {
+      return;  // the outer call loops until both queues are empty
+    }
+    auto self = shared_from_this();
+    pumping_ = true;
+    while (channel_.has_output() || channel_.has_events()) {
+      if (channel_.has_output()) {
+        tcp_->send(channel_.take_output());
+      }
+      for (auto& event : channel_.take_events()) {
+        handle(event);
+      }
+    }
+    pumping_ = false;
+    arm_timer();
+  }
+
+  void handle(ChannelEvent& event) {
+    switch (event.kind) {
+      case ChannelEvent::Kind::Opened:
+        info_.channel_id = channel_.channel_id();
+        info_.endpoint_url = channel_.endpoint_url();
+        info_.security_policy_uri = channel_.security_policy_uri();
+        info_.security_mode = channel_.security_mode();
+        info_.client_certificate = channel_.peer_certificate();
+        opened_ = true;
+        if (hello_timer_ != 0) {
+          loop_.cancel_timer(hello_timer_);
+          hello_timer_ = 0;
+        }
+        logger()->info("secure channel {} opened from {} for '{}'", info_.channel_id, info_.peer,
+                       info_.endpoint_url);
+        break;
+      case ChannelEvent::Kind::Renewed:
+        break;
+      case ChannelEvent::Kind::ServiceMessage:
+        if (!detached_) {
+          handler_.on_request(shared_from_this(), event.request_id, std::move(*event.message));
+        }
+        break;
+      case ChannelEvent::Kind::Undecodable: {
+        // Part 4 §7.30: unknown services → BadServiceUnsupported, the rest BadDecodingError,
+        // with the requestHandle when it could be read.
+        ServiceFault fault;
+        fault.response_header.timestamp = DateTime::from_system_clock(clock_.utc_now());
+        fault.response_header.request_handle = event.request_handle;
+        fault.response_header.service_result = event.status;
+        (void)channel_.send_response(event.request_id, fault);
+        break;
+      }
+      case ChannelEvent::Kind::Aborted:
+        break;  // the request was never delivered; nothing to answer
+      case ChannelEvent::Kind::Closed:
+        finish(event.status.is_good() ? std::string("closed") : std::string(event.status.name()));
+        break;
+    }
+  }
+
+  void finish(const std::string& why) {
+    if (finished_) {
+      return;
+    }
+    finished_ = true;
+    cancel_timers();
+    if (channel_.has_output()) {
+      tcp_->send(channel_.take_output());
+    }
+    tcp_->close();  // flushes an ERR before the FIN
+    logger()->debug("connection {} (channel {}) closed: {}", info_.peer, info_.channel_id, why);
+    notify_owner();
+  }
+
+  void on_tcp_closed(const Status& status) {
+    if (finished_) {
+      return;
+    }
+    finished_ = true;
+    cancel_timers();
+    logger()->debug("connection {} (channel {}) lost: {}", info_.peer, info_.channel_id,
+                    status.ok() ? std::string("peer closed") : status.error().message);
+    notify_owner();
+  }
+
+  void notify_owner() {
+    if (detached_) {
+      return;
+    }
+    detached_ = true;
+    auto self = shared_from_this();
+    if (auto owner = owner_.lock()) {
+      owner->remove(key_);
+    }
+    if (opened_) {
+      handler_.on_channel_closed(info_.channel_id);
+    }
+  }
+
+  void arm_timer() {
+    if (tick_timer_ != 0) {
+      loop_.cancel_timer(tick_timer_);
+      tick_timer_ = 0;
+    }
+    const auto deadline = channel_.next_deadline();
+    if (!deadline || finished_) {
+      return;
+    }
+    const auto delay =
+        std::clamp(std::chrono::duration_cast<std::chrono::nanoseconds>(*deadline - clock_.now()),
+                   std::chrono::nanoseconds{0}, std::chrono::nanoseconds{kMaxTimerDelay});
+    std::weak_ptr<ServerConnection> weak = weak_from_this();
+    tick_timer_ = loop_.add_timer(delay, [weak] {
+      if (auto self = weak.lock()) {
+        self->tick_timer_ = 0;
+        self->channel_.on_timer();
+        self->pump();
+      }
+    });
+  }
+
+  void cancel_timers() {
+    if (hello_timer_ != 0) {
+      loop_.cancel_timer(hello_timer_);
+      hello_timer_ = 0;
+    }
+    if (tick_timer_ != 0) {
+      loop_.cancel_timer(tick_timer_);
+      tick_timer_ = 0;
+    }
+  }
+
+  std::weak_ptr<ServerTransport::Impl> owner_;
+  net::EventLoop& loop_;
+  ServiceHandler& handler_;
+  const Clock& clock_;
+  std::uint64_t key_;
+  std::shared_ptr<net::TcpConnection> tcp_;
+  SecureChannel channel_;
+  ChannelInfo info_;
+  net::EventLoop::TimerId hello_timer_ = 0;
+  net::EventLoop::TimerId tick_timer_ = 0;
+  bool pumping_ = false;
+  bool opened_ = false;
+  bool finished_ = false;
+  bool detached_ = false;
+};
+
+}  // namespace
+
+void ServerTransport::Impl::accept(std::shared_ptr<net::TcpConnection> tcp) {
+  if (stopped) {
+    tcp->abort();
+    return;
+  }
+  if (connections.size() >= config.max_channels) {
+    // §7.1.5: refuse with ERR; the connection lives until its close completes.
+    logger()->warn("connection from {} rejected: {} channels in use", tcp->peer(), connections.size());
+    tcp->set_on_close([tcp](const Status&) {});
+    tcp->send(
+        encode_error(ErrorMessage{status::BadTcpNotEnoughResources,
+                                  fmt::format("the server allows {} secure channels", config.max_channels)}));
+    tcp->close();
+    return;
+  }
+  SecureChannelConfig sc;
+  sc.role = ChannelRole::Server;
+  sc.limits = config.limits;
+  sc.decode_limits = config.decode_limits;
+  sc.policies = config.policies;
+  sc.credentials = config.credentials;
+  sc.validate_certificate = config.validate_certificate;
+  sc.channel_id = allocate_channel_id();
+  sc.max_token_lifetime_ms = config.max_token_lifetime_ms;
+  sc.min_token_lifetime_ms = config.min_token_lifetime_ms;
+  const std::uint64_t key = next_key++;
+  auto conn = std::make_shared<ServerConnection>(shared_from_this(), key, std::move(tcp), std::move(sc));
+  connections.emplace(key, conn);
+  conn->start(config.hello_timeout);
+}
+
+std::uint32_t ServerTransport::Impl::allocate_channel_id() {
+  // Unique among live channels; the start value differs per run (§6.7.2.2 asks for ids that
+  // are unlikely to repeat after a restart).
+  for (;;) {
+    const std::uint32_t id = next_channel_id++;
+    if (id == 0) {
+      continue;
+    }
+    bool used = false;
+    for (const auto& [key, conn] : connections) {
+      used = used || conn->info().channel_id == id;
+    }
+    if (!used) {
+      return id;
+    }
+  }
+}
+
+void ServerTransport::Impl::remove(std::uint64_t key) {
+  connections.erase(key);
+}
+
+Result<std::unique_ptr<ServerTransport>> ServerTransport::start(net::EventLoop& loop,
+                                                                ServerTransportConfig config,
+                                                                ServiceHandler& handler, const Clock& clock) {
+  auto impl = std::make_shared<Impl>(loop, std::move(config), handler, clock);
+  const auto seed =
+      std::chrono::duration_cast<std::chrono::seconds>(clock.utc_now().time_since_epoch()).count();
+  impl->next_channel_id = static_cast<std::uint32_t>(seed & 0xFFFFU) << 16U | 1U;
+  Impl* raw = impl.get();
+  auto listener = net::TcpListener::listen(
+      loop, impl->config.host, impl->config.port,
+      [raw](std::shared_ptr<net::TcpConnection> tcp) { raw->accept(std::move(tcp)); });
+  if (!listener.ok()) {
+    return status_error(status::BadResourceUnavailable, listener.error().message);
+  }
+  impl->listener = std::move(*listener);
+  logger()->info("OPC UA TCP listening on {}:{}", impl->config.host, impl->listener->port());
+  return std::unique_ptr<ServerTransport>(new ServerTransport(std::move(impl)));
+}
+
+ServerTransport::ServerTransport(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+ServerTransport::~ServerTransport() {
+  stop();
+}
+
+std::uint16_t ServerTransport::port() const {
+  return impl_->listener ? impl_->listener->port() : 0;
+}
+
+std::size_t ServerTransport::channel_count() const {
+  return impl_->connections.size();
+}
+
+void ServerTransport::stop() {
+  if (impl_->stopped) {
+    return;
+  }
+  impl_->stopped = true;
+  impl_->listener.reset();
+  auto connections = std::move(impl_->connections);
+  impl_->connections.clear();
+  for (auto& [key, conn] : connections) {
+    const bool was_open = conn->is_open();
+    const std::uint32_t id = conn->info().channel_id;
+    conn->shut_down();
+    if (was_open) {
+      impl_->handler.on_channel_closed(id);
+    }
+  }
+}
+
+}  // namespace sf::opcua

@@ -1,0 +1,184 @@
+// A node-opcua server with the smartfactory demo model, for interop tests of our OPC UA client
+// (libs/opcua/test/client). node-opcua is pinned in /package.json.
+//
+//   node tests/peers/opcua/node_server.mjs <port>     (0 = pick a free port)
+//
+// Listens on 127.0.0.1 with SecurityPolicy None and anonymous access, prints one line
+// "READY <port>" on stdout once it accepts connections, and exits when stdin closes (so a test
+// that dies takes its server with it). Everything else goes to stderr.
+//
+// Demo model (issue 5): namespace "urn:smartfactory:demo", object Demo under Objects with
+//   Temperature  Double, read-only, changes every 100 ms       ns=<i>;s=Demo.Temperature
+//   Counter      Int32, read-write                             ns=<i>;s=Demo.Counter
+//   Multiply(a: Double, b: Double) -> Double                   ns=<i>;s=Demo.Multiply
+//   RaiseEvent(message: String)  raises a BaseEventType event   ns=<i>;s=Demo.RaiseEvent
+// and a BaseEventType event on the Server object every 500 ms ("tick <n>", severity 100).
+import net from "node:net";
+import os from "node:os";
+import path from "node:path";
+import process from "node:process";
+
+import {
+  DataType,
+  LocalizedText,
+  MessageSecurityMode,
+  OPCUACertificateManager,
+  OPCUAServer,
+  SecurityPolicy,
+  StatusCodes,
+  Variant,
+} from "node-opcua";
+
+// node-opcua prints warnings with console.log; keep stdout for the READY line only.
+console.log = (...args) => console.error(...args);
+console.info = (...args) => console.error(...args);
+console.warn = (...args) => console.error(...args);
+
+const log = (...args) => process.stderr.write(`[node_server] ${args.join(" ")}\n`);
+
+// Port 0: ask the kernel for a free port first, because node-opcua builds its endpoint URLs
+// before it listens and would advertise port 0.
+async function free_port() {
+  return new Promise((resolve, reject) => {
+    const s = net.createServer();
+    s.once("error", reject);
+    s.listen(0, "127.0.0.1", () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+  });
+}
+
+function build_demo_model(addressSpace) {
+  const ns = addressSpace.registerNamespace("urn:smartfactory:demo");
+  const demo = ns.addObject({
+    organizedBy: addressSpace.rootFolder.objects,
+    browseName: "Demo",
+    nodeId: "s=Demo",
+  });
+
+  let temperature = 20.0;
+  let ticks = 0;
+  const temperature_var = ns.addVariable({
+    componentOf: demo,
+    browseName: "Temperature",
+    nodeId: "s=Demo.Temperature",
+    dataType: "Double",
+    accessLevel: "CurrentRead",
+    userAccessLevel: "CurrentRead",
+    minimumSamplingInterval: 100,
+    value: { dataType: DataType.Double, value: temperature },
+  });
+  const temperature_timer = setInterval(() => {
+    ticks += 1;
+    temperature = 20.0 + 5.0 * Math.sin(ticks / 10.0) + ticks * 1e-6;
+    temperature_var.setValueFromSource(new Variant({ dataType: DataType.Double, value: temperature }));
+  }, 100);
+
+  ns.addVariable({
+    componentOf: demo,
+    browseName: "Counter",
+    nodeId: "s=Demo.Counter",
+    dataType: "Int32",
+    accessLevel: "CurrentRead | CurrentWrite",
+    userAccessLevel: "CurrentRead | CurrentWrite",
+    value: { dataType: DataType.Int32, value: 0 },
+  });
+
+  const multiply = ns.addMethod(demo, {
+    browseName: "Multiply",
+    nodeId: "s=Demo.Multiply",
+    inputArguments: [
+      { name: "a", dataType: DataType.Double, description: "first factor" },
+      { name: "b", dataType: DataType.Double, description: "second factor" },
+    ],
+    outputArguments: [{ name: "product", dataType: DataType.Double, description: "a * b" }],
+  });
+  multiply.bindMethod(async (inputArguments, _context) => {
+    const [a, b] = inputArguments.map((v) => v.value);
+    return {
+      statusCode: StatusCodes.Good,
+      outputArguments: [{ dataType: DataType.Double, value: a * b }],
+    };
+  });
+
+  const server_object = addressSpace.rootFolder.objects.server;
+  const raise = (message, severity) => {
+    server_object.raiseEvent("BaseEventType", {
+      message: { dataType: DataType.LocalizedText, value: new LocalizedText({ text: message }) },
+      severity: { dataType: DataType.UInt16, value: severity },
+    });
+  };
+  const raise_event = ns.addMethod(demo, {
+    browseName: "RaiseEvent",
+    nodeId: "s=Demo.RaiseEvent",
+    inputArguments: [{ name: "message", dataType: DataType.String }],
+    outputArguments: [],
+  });
+  raise_event.bindMethod(async (inputArguments, _context) => {
+    raise(inputArguments[0].value ?? "", 500);
+    return { statusCode: StatusCodes.Good, outputArguments: [] };
+  });
+
+  let events = 0;
+  const event_timer = setInterval(() => {
+    events += 1;
+    raise(`tick ${events}`, 100);
+  }, 500);
+
+  return () => {
+    clearInterval(temperature_timer);
+    clearInterval(event_timer);
+  };
+}
+
+async function main() {
+  const requested = Number.parseInt(process.argv[2] ?? "0", 10);
+  const port = requested > 0 ? requested : await free_port();
+
+  // Keep the PKI (node-opcua creates a self-signed certificate on first start) in one place per
+  // user, so later starts are fast and nothing is written into the source tree.
+  const pki = path.join(os.tmpdir(), `sf-node-opcua-pki-${process.getuid?.() ?? 0}`);
+  const serverCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(pki, "server") });
+
+  const server = new OPCUAServer({
+    port,
+    host: "127.0.0.1",
+    hostname: "127.0.0.1",
+    securityPolicies: [SecurityPolicy.None],
+    securityModes: [MessageSecurityMode.None],
+    allowAnonymous: true,
+    serverCertificateManager,
+    disableDiscovery: true,
+    buildInfo: { productName: "smartfactory node-opcua test server" },
+  });
+  await server.initialize();
+  const stop_model = build_demo_model(server.engine.addressSpace);
+  await server.start();
+  process.stdout.write(`READY ${port}\n`);
+
+  let stopping = false;
+  const stop = async (why) => {
+    if (stopping) {
+      return;
+    }
+    stopping = true;
+    log(`stopping (${why})`);
+    stop_model();
+    try {
+      await server.shutdown(0);
+    } finally {
+      process.exit(0);
+    }
+  };
+  process.stdin.on("end", () => stop("stdin closed"));
+  process.stdin.on("close", () => stop("stdin closed"));
+  process.stdin.resume();
+  process.on("SIGTERM", () => stop("SIGTERM"));
+  process.on("SIGINT", () => stop("SIGINT"));
+}
+
+main().catch((err) => {
+  log(`failed: ${err?.stack ?? err}`);
+  process.exit(1);
+});

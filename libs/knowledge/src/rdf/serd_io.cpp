@@ -1,0 +1,202 @@
+// Reading and writing RDF through serd 0.30 (Debian libserd-dev): serd tokenises and expands
+// the syntax, we intern the terms.
+#include <serd/serd.h>
+
+#include <atomic>
+#include <cstdarg>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "sf/knowledge/rdf_io.hpp"
+#include "sf/knowledge/vocab.hpp"
+
+namespace sf::knowledge {
+namespace {
+
+const uint8_t* u8(const char* s) {
+  return reinterpret_cast<const uint8_t*>(s);
+}
+std::string_view view(const SerdNode* n) {
+  return n == nullptr || n->buf == nullptr
+             ? std::string_view{}
+             : std::string_view(reinterpret_cast<const char*>(n->buf), n->n_bytes);
+}
+
+// A serd node we own (serd_env_expand_node allocates).
+struct OwnedNode {
+  SerdNode node = SERD_NODE_NULL;
+  ~OwnedNode() { serd_node_free(&node); }
+};
+
+struct ReadState {
+  Dictionary& dict;
+  SerdEnv* env;
+  std::string name;
+  std::string_view text;
+  Document doc;
+  std::string error;  // the first error, "name:line:col: message"
+
+  void fail_at(std::string message) {
+    if (error.empty()) {
+      error = fmt::format("{}:{}", name, message);
+    }
+  }
+
+  // serd reports no position to the statement sink: locate the prefixed name in the text.
+  void fail_curie(const SerdNode* n) {
+    const std::string_view curie = view(n);
+    std::size_t at = text.find(curie);
+    int line = 1;
+    int col = 1;
+    for (std::size_t i = 0; at != std::string_view::npos && i < at; ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    fail_at(fmt::format("{}:{}: undeclared prefix in '{}'", line, col, curie));
+  }
+
+  // Expands a URI or CURIE node to an absolute IRI; empty on failure.
+  std::string expand(const SerdNode* n) {
+    OwnedNode full;
+    full.node = serd_env_expand_node(env, n);
+    return std::string(view(&full.node));
+  }
+
+  TermId term(const SerdNode* n, const SerdNode* datatype, const SerdNode* lang) {
+    switch (n->type) {
+      case SERD_URI:
+      case SERD_CURIE: {
+        const std::string iri = expand(n);
+        return iri.empty() ? kNoTerm : dict.iri(iri);
+      }
+      case SERD_BLANK:
+        return dict.blank(view(n));
+      case SERD_LITERAL: {
+        std::string dt;
+        if (datatype != nullptr && datatype->type != SERD_NOTHING) {
+          dt = expand(datatype);
+          if (dt.empty()) {
+            return kNoTerm;
+          }
+        }
+        return dict.literal(view(n), dt, lang == nullptr ? std::string_view{} : view(lang));
+      }
+      case SERD_NOTHING:
+        break;
+    }
+    return kNoTerm;
+  }
+};
+
+SerdStatus on_base(void* handle, const SerdNode* uri) {
+  auto* st = static_cast<ReadState*>(handle);
+  return serd_env_set_base_uri(st->env, uri);
+}
+
+SerdStatus on_prefix(void* handle, const SerdNode* name, const SerdNode* uri) {
+  auto* st = static_cast<ReadState*>(handle);
+  const SerdStatus s = serd_env_set_prefix(st->env, name, uri);
+  if (s == SERD_SUCCESS) {
+    OwnedNode full;
+    full.node = serd_env_expand_node(st->env, uri);
+    st->doc.prefixes[std::string(view(name))] = std::string(view(&full.node));
+  }
+  return s;
+}
+
+SerdStatus on_statement(void* handle, SerdStatementFlags /*flags*/, const SerdNode* /*graph*/,
+                        const SerdNode* subject, const SerdNode* predicate, const SerdNode* object,
+                        const SerdNode* datatype, const SerdNode* lang) {
+  auto* st = static_cast<ReadState*>(handle);
+  const TermId s = st->term(subject, nullptr, nullptr);
+  const TermId p = st->term(predicate, nullptr, nullptr);
+  const TermId o = st->term(object, datatype, lang);
+  if (s == kNoTerm || p == kNoTerm || o == kNoTerm) {
+    for (const SerdNode* n : {subject, predicate, object, datatype}) {
+      if (n != nullptr && n->type == SERD_CURIE && st->expand(n).empty()) {
+        st->fail_curie(n);
+      }
+    }
+    st->fail_at("0:0: a term could not be expanded");
+    return SERD_ERR_BAD_CURIE;
+  }
+  st->doc.triples.push_back(Triple{s, p, o});
+  return SERD_SUCCESS;
+}
+
+SerdStatus on_error(void* handle, const SerdError* e) {
+  auto* st = static_cast<ReadState*>(handle);
+  char text[512];
+  va_list args;
+  va_copy(args, *e->args);
+  std::vsnprintf(text, sizeof text, e->fmt, args);
+  va_end(args);
+  std::string message(text);
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) {
+    message.pop_back();
+  }
+  st->fail_at(fmt::format("{}:{}: {}", e->line, e->col + 1, message));
+  return SERD_SUCCESS;
+}
+
+std::atomic<std::uint64_t> g_documents{0};
+
+}  // namespace
+
+Syntax syntax_for_path(std::string_view path) {
+  return path.ends_with(".nt") ? Syntax::ntriples : Syntax::turtle;
+}
+
+Result<Document> read_rdf_string(Dictionary& dict, std::string_view text, Syntax syntax,
+                                 std::string_view name, std::string_view base_iri) {
+  const std::string base(base_iri);
+  SerdNode base_node = serd_node_from_string(SERD_URI, u8(base.c_str()));
+  std::unique_ptr<SerdEnv, void (*)(SerdEnv*)> env(serd_env_new(base.empty() ? nullptr : &base_node),
+                                                   serd_env_free);
+  ReadState st{dict, env.get(), std::string(name), text, {}, {}};
+  std::unique_ptr<SerdReader, void (*)(SerdReader*)> reader(
+      serd_reader_new(syntax == Syntax::ntriples ? SERD_NTRIPLES : SERD_TURTLE, &st, nullptr, on_base,
+                      on_prefix, on_statement, nullptr),
+      serd_reader_free);
+  serd_reader_set_strict(reader.get(), true);
+  serd_reader_set_error_sink(reader.get(), on_error, &st);
+  // Blank node labels are per document (RDF 1.1 Concepts §3.4).
+  const std::string prefix = fmt::format("d{}_", ++g_documents);
+  serd_reader_add_blank_prefix(reader.get(), u8(prefix.c_str()));
+  const std::string input(text);  // serd needs a terminating NUL
+  if (input.find('\0') != std::string::npos) {
+    return make_error(Errc::malformed, fmt::format("{}: contains a NUL byte", name));
+  }
+  const SerdStatus status = serd_reader_read_string(reader.get(), u8(input.c_str()));
+  if (!st.error.empty()) {
+    return make_error(Errc::malformed, st.error);
+  }
+  if (status != SERD_SUCCESS && status != SERD_FAILURE) {
+    return make_error(Errc::malformed,
+                      fmt::format("{}: {}", name, reinterpret_cast<const char*>(serd_strerror(status))));
+  }
+  return std::move(st.doc);
+}
+
+Result<Document> read_rdf_file(Dictionary& dict, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return make_error(Errc::io, fmt::format("{}: cannot open", path));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(path, ec);
+  return read_rdf_string(dict, text.str(), syntax_for_path(path), path, "file://" + absolute.string());
+}
+
+}  // namespace sf::knowledge

@@ -1,0 +1,13 @@
+// The PostgreSQL back end (see pg_store.cpp).
+#pragma once
+
+#include <memory>
+
+#include "sf/historian/store.hpp"
+#include "url.hpp"
+
+namespace sf::historian::postgres {
+
+Result<std::unique_ptr<Store>> open_store(const detail::StoreUrl& url, const StoreOptions& options);
+
+}  // namespace sf::historian::postgres

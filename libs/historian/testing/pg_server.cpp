@@ -1,0 +1,249 @@
+#include "pg_server.hpp"
+
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <pwd.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "sf/core/clock.hpp"
+
+namespace sf::historian::testing {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A port the kernel considers free right now (bind to 0, read it back).
+int free_port() {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  int port = 0;
+  if (::bind(s, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+      ::getsockname(s, reinterpret_cast<sockaddr*>(&addr), &len) == 0) {
+    port = ntohs(addr.sin_port);
+  }
+  ::close(s);
+  return port;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// argv with the switch to the postgres user in front when running as root.
+std::vector<std::string> as_user(std::vector<std::string> argv, bool switch_user, bool die_with_parent) {
+  if (!switch_user) {
+    return argv;
+  }
+  std::vector<std::string> out = {"setpriv", "--reuid=postgres", "--regid=postgres", "--clear-groups"};
+  if (die_with_parent) {
+    out.emplace_back("--pdeathsig=SIGQUIT");  // set after the uid change, which clears it
+  }
+  out.insert(out.end(), argv.begin(), argv.end());
+  return out;
+}
+
+// fork + exec with stdout/stderr into `log`. The child gets SIGQUIT when we die.
+pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
+  std::vector<char*> args;
+  for (const auto& a : argv) {
+    args.push_back(const_cast<char*>(a.c_str()));
+  }
+  args.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::prctl(PR_SET_PDEATHSIG, SIGQUIT);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execvp(args[0], args.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int wait_for(pid_t pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+std::optional<fs::path> PgServer::find_bin_dir() {
+  if (const char* env = std::getenv("SF_PG_BIN"); env != nullptr && fs::exists(fs::path{env} / "initdb")) {
+    return fs::path{env};
+  }
+  std::error_code ec;
+  std::vector<std::pair<int, fs::path>> found;
+  for (const auto& entry : fs::directory_iterator("/usr/lib/postgresql", ec)) {
+    const auto bin = entry.path() / "bin";
+    if (fs::exists(bin / "initdb") && fs::exists(bin / "postgres")) {
+      found.emplace_back(std::atoi(entry.path().filename().c_str()), bin);
+    }
+  }
+  if (found.empty()) {
+    return std::nullopt;
+  }
+  return std::max_element(found.begin(), found.end())->second;
+}
+
+Result<std::string> PgServer::run_tool(const std::vector<std::string>& argv, bool as_server_user) {
+  const auto log = dir_ / "tool.log";
+  fs::remove(log);
+  const pid_t pid = spawn(as_user(argv, as_server_user && as_postgres_, false), log);
+  if (pid < 0) {
+    return make_error(Errc::io, fmt::format("fork: {}", std::strerror(errno)));
+  }
+  const int rc = wait_for(pid);
+  auto output = read_text(log);
+  if (rc != 0) {
+    return make_error(Errc::io, fmt::format("{} exited with {}: {}", argv.front(), rc, output));
+  }
+  return output;
+}
+
+Result<std::unique_ptr<PgServer>> PgServer::start(PgServerOptions options) {
+  const auto bin = find_bin_dir();
+  if (!bin) {
+    return make_error(
+        Errc::not_found,
+        "PostgreSQL is not installed (no /usr/lib/postgresql/*/bin/initdb; scripts/setup installs "
+        "the postgresql package, or set SF_PG_BIN)");
+  }
+  std::unique_ptr<PgServer> server{new PgServer()};
+  server->bin_ = *bin;
+  server->options_ = options;
+  char tmpl[] = "/tmp/sf-pg-XXXXXX";
+  if (::mkdtemp(tmpl) == nullptr) {
+    return make_error(Errc::io, fmt::format("mkdtemp: {}", std::strerror(errno)));
+  }
+  server->dir_ = tmpl;
+  if (::geteuid() == 0) {
+    const passwd* pw = ::getpwnam("postgres");
+    if (pw == nullptr) {
+      return make_error(Errc::not_found,
+                        "running as root, and initdb refuses root: no 'postgres' user to run as");
+    }
+    server->as_postgres_ = true;
+    if (::chown(tmpl, pw->pw_uid, pw->pw_gid) != 0) {
+      return make_error(Errc::io, fmt::format("chown {}: {}", tmpl, std::strerror(errno)));
+    }
+  }
+  auto init = server->run_tool({(*bin / "initdb").string(), "-D", (server->dir_ / "data").string(), "-U",
+                                "sf", "-A", "trust", "-E", "UTF8", "--locale=C", "--no-sync"},
+                               true);
+  if (!init) {
+    return init.error();
+  }
+  server->port_ = free_port();
+  SF_TRY(server->launch());
+  return server;
+}
+
+Status PgServer::launch() {
+  std::vector<std::string> argv = {(bin_ / "postgres").string(),
+                                   "-D",
+                                   (dir_ / "data").string(),
+                                   "-p",
+                                   std::to_string(port_),
+                                   "-k",
+                                   dir_.string(),
+                                   "-c",
+                                   "listen_addresses=127.0.0.1",
+                                   "-c",
+                                   "max_connections=50"};
+  if (!options_.durable) {
+    // Not synchronous_commit=off: a killed server would lose commits it had
+    // acknowledged, which is exactly what the fault tests must not see.
+    for (const char* setting : {"fsync=off", "full_page_writes=off"}) {
+      argv.insert(argv.end(), {"-c", setting});
+    }
+  }
+  pid_ = spawn(as_user(argv, as_postgres_, true), dir_ / "server.log");
+  // Ready when pg_isready says so; give up after 60 s (a loaded CI machine).
+  auto& clock = SteadyClock::instance();
+  const auto deadline = clock.now() + std::chrono::seconds{60};
+  while (clock.now() < deadline) {
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      return make_error(Errc::io,
+                        fmt::format("postgres exited at start: {}", read_text(dir_ / "server.log")));
+    }
+    if (run_tool({(bin_ / "pg_isready").string(), "-q", "-h", "127.0.0.1", "-p", std::to_string(port_), "-U",
+                  "sf"},
+                 false)) {
+      return {};
+    }
+    clock.sleep_until(clock.now() + std::chrono::milliseconds{100});
+  }
+  return make_error(Errc::timeout,
+                    fmt::format("postgres not ready after 60 s: {}", read_text(dir_ / "server.log")));
+}
+
+PgServer::~PgServer() {
+  (void)kill();
+  if (std::getenv("SF_KEEP_PG") != nullptr) {
+    std::fprintf(stderr, "SF_KEEP_PG: PostgreSQL directory kept: %s\n", dir_.c_str());
+    return;
+  }
+  std::error_code ec;
+  fs::remove_all(dir_, ec);
+}
+
+std::string PgServer::url(std::string_view database) const {
+  return fmt::format("postgresql://sf@127.0.0.1:{}/{}", port_, database);
+}
+
+Status PgServer::create_database(std::string_view name) {
+  auto out = run_tool({(bin_ / "createdb").string(), "-h", "127.0.0.1", "-p", std::to_string(port_), "-U",
+                       "sf", std::string{name}},
+                      false);
+  return out ? Status{} : Status{out.error()};
+}
+
+Result<std::string> PgServer::psql(std::string_view database, std::string_view sql) {
+  return run_tool(
+      {(bin_ / "psql").string(), "-X", "-q", "-A", "-t", "-v", "ON_ERROR_STOP=1", "-h", "127.0.0.1", "-p",
+       std::to_string(port_), "-U", "sf", "-d", std::string{database}, "-c", std::string{sql}},
+      false);
+}
+
+Status PgServer::kill() {
+  if (pid_ <= 0) {
+    return {};
+  }
+  ::kill(pid_, SIGQUIT);
+  wait_for(pid_);
+  pid_ = -1;
+  return {};
+}
+
+Status PgServer::restart() {
+  SF_TRY(kill());
+  return launch();
+}
+
+}  // namespace sf::historian::testing

@@ -3,7 +3,11 @@
 // rule files and writes the deductions graph (the triples the rules added) as N-Triples.
 //
 //   java -cp CLASSPATH JenaReason --data F.ttl [--data F.nt ...] --rules F.rules [...]
-//        [--out F.nt] [--stats]
+//        [--out F.nt] [--stats] [--updates N --update-property IRI]
+//
+// --updates N: after the closure, N live-value changes on the InfModel (remove the value of
+// the property on one subject, add value + 1), each timed; --stats reports their median and
+// 99th percentile, as bench/bench_knowledge does for ours.
 //
 // tests/integration/kb_jena_test.py compares the output with `smartfactory kb reason`;
 // bench/bench_knowledge runs it with --stats for the time figures. Node formatting is our own
@@ -19,6 +23,7 @@ import org.apache.jena.graph.Triple;
 import org.apache.jena.rdf.model.InfModel;
 import org.apache.jena.rdf.model.Model;
 import org.apache.jena.rdf.model.ModelFactory;
+import org.apache.jena.rdf.model.RDFNode;
 import org.apache.jena.reasoner.rulesys.GenericRuleReasoner;
 import org.apache.jena.reasoner.rulesys.Rule;
 import org.apache.jena.riot.RDFDataMgr;
@@ -32,19 +37,24 @@ public class JenaReason {
     List<String> rules = new ArrayList<>();
     String out = null;
     boolean stats = false;
+    int updates = 0;
+    String updateProperty = null;
     for (int i = 0; i < args.length; i++) {
       switch (args[i]) {
         case "--data": data.add(args[++i]); break;
         case "--rules": rules.add(args[++i]); break;
         case "--out": out = args[++i]; break;
         case "--stats": stats = true; break;
+        case "--updates": updates = Integer.parseInt(args[++i]); break;
+        case "--update-property": updateProperty = args[++i]; break;
         default: throw new IllegalArgumentException("unknown argument " + args[i]);
       }
     }
-    new JenaReason().run(data, rules, out, stats);
+    new JenaReason().run(data, rules, out, stats, updates, updateProperty);
   }
 
-  private void run(List<String> data, List<String> ruleFiles, String out, boolean stats) throws IOException {
+  private void run(List<String> data, List<String> ruleFiles, String out, boolean stats, int updates,
+                   String updateProperty) throws IOException {
     long t0 = System.nanoTime();
     Model model = ModelFactory.createDefaultModel();
     for (String f : data) RDFDataMgr.read(model, f);
@@ -70,10 +80,41 @@ public class JenaReason {
         count++;
       }
     }
+    double[] latencies = updates > 0 ? update(inf, updates, updateProperty) : new double[0];
     if (stats) {
-      System.err.printf("{\"load_ms\": %.3f, \"reason_ms\": %.3f, \"input_triples\": %d, \"inferred\": %d}%n",
-                        (t1 - t0) / 1e6, (t2 - t1) / 1e6, model.size(), count);
+      System.gc();
+      Runtime rt = Runtime.getRuntime();
+      double heapMb = (rt.totalMemory() - rt.freeMemory()) / 1048576.0;
+      System.err.printf(Locale.ROOT,
+                        "{\"load_ms\": %.3f, \"reason_ms\": %.3f, \"input_triples\": %d, \"inferred\": %d, "
+                            + "\"heap_after_gc_mb\": %.1f, \"update_median_ms\": %.4f, \"update_p99_ms\": %.4f}%n",
+                        (t1 - t0) / 1e6, (t2 - t1) / 1e6, model.size(), count, heapMb, percentile(latencies, 0.5),
+                        percentile(latencies, 0.99));
     }
+  }
+
+  // Live values through the InfModel: the RETE engine retracts and derives incrementally.
+  private static double[] update(InfModel inf, int n, String property) {
+    org.apache.jena.rdf.model.Property p = inf.createProperty(property);
+    List<org.apache.jena.rdf.model.Statement> targets = inf.getRawModel().listStatements(null, p, (RDFNode) null).toList();
+    double[] ms = new double[Math.min(n, targets.size())];
+    for (int i = 0; i < ms.length; i++) {
+      org.apache.jena.rdf.model.Statement s = targets.get(i);
+      double next = s.getObject().asLiteral().getDouble() + 1.0;
+      long t0 = System.nanoTime();
+      inf.remove(s);
+      inf.add(s.getSubject(), p, inf.createTypedLiteral(next));
+      inf.prepare();
+      ms[i] = (System.nanoTime() - t0) / 1e6;
+    }
+    return ms;
+  }
+
+  private static double percentile(double[] v, double q) {
+    if (v.length == 0) return 0;
+    double[] s = v.clone();
+    Arrays.sort(s);
+    return s[Math.min(s.length - 1, (int) Math.floor(q * s.length))];
   }
 
   // N-Triples term syntax (RDF 1.1 N-Triples §2.3–2.5); xsd:string is the implicit datatype.

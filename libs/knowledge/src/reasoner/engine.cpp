@@ -184,6 +184,9 @@ bool Reasoner::Engine::on_match(const CompiledRule& r, Env& env, const std::vect
   const std::span<const TripleId> matched(premises.data(), r.patterns.size());
   if (r.monotonic) {
     stage_heads(r, guard_env_, matched);
+    for (const BuiltinCall* action : r.actions) {
+      builtins_.print(*action, guard_env_);  // the only head action of a monotonic rule
+    }
   } else {
     agenda_.push_back(Deferred{r.index, guard_env_, std::vector<TripleId>(matched.begin(), matched.end())});
   }

@@ -1,9 +1,10 @@
-// Joins a rule's body patterns against the store. Two entry points:
+// Joins a rule's body patterns against the store, at each step taking the pattern with the
+// fewest candidates under the bindings so far (index chain lengths). Two entry points:
 //  - delta(): the matches in which one pattern is a given new triple and the other patterns use
 //    older triples (semi-naive evaluation: each match is found once, when its newest triple is
 //    processed; a triple matching several patterns counts for the first of them);
 //  - solve(): every match extending a partial binding, over all triples (re-derivation checks
-//    and noValue re-evaluation), choosing the most selective pattern at each step.
+//    and noValue re-evaluation).
 // The callback gets the bindings and the matched triple of each pattern and returns true to stop
 // the search; it must not change the store (it may intern terms).
 #pragma once
@@ -32,13 +33,14 @@ class Matcher {
       return false;
     }
     premises[seed] = id;
-    return step_delta(r, r.plans[seed], 0, seed, id, env, premises, on_match);
+    const std::uint64_t all = (std::uint64_t{1} << r.patterns.size()) - 1;  // at most 63 patterns
+    return step(r, all & ~(std::uint64_t{1} << seed), Limit{seed, id}, env, premises, on_match);
   }
 
   template <typename F>
   bool solve(const CompiledRule& r, Env& env, std::vector<TripleId>& premises, F&& on_match) {
-    const std::uint64_t remaining = (std::uint64_t{1} << r.patterns.size()) - 1;  // at most 63 patterns
-    return step_solve(r, remaining, env, premises, on_match);
+    const std::uint64_t all = (std::uint64_t{1} << r.patterns.size()) - 1;
+    return step(r, all, Limit{kNone, store_.next_id()}, env, premises, on_match);
   }
 
   // Rebuilds the bindings of a recorded match from its premises (one per body pattern).
@@ -107,56 +109,56 @@ class Matcher {
     return true;
   }
 
+  // Which triples a pattern may use: in delta(), those before the seed pattern strictly older than
+  // the seed triple, those after it up to and including it; in solve(), all of them.
+  struct Limit {
+    std::uint32_t seed;
+    TripleId id;
+    [[nodiscard]] TripleId for_pattern(std::uint32_t pi) const {
+      return seed == kNone || pi < seed ? id : id + 1;
+    }
+  };
+
+  // The remaining pattern with the fewest candidates under the current bindings; a single
+  // remaining pattern needs no estimate. Returns false when some pattern has no candidate.
+  bool choose(const CompiledRule& r, std::uint64_t remaining, const Env& env, std::uint32_t& best) const {
+    if ((remaining & (remaining - 1)) == 0) {
+      best = static_cast<std::uint32_t>(__builtin_ctzll(remaining));
+      return true;
+    }
+    std::size_t best_count = ~std::size_t{0};
+    for (std::uint64_t m = remaining; m != 0; m &= m - 1) {
+      const auto i = static_cast<std::uint32_t>(__builtin_ctzll(m));
+      const std::size_t n = store_.estimate(lookup(r.patterns[i], env));
+      if (n == 0) {
+        return false;
+      }
+      if (n < best_count) {
+        best = i;
+        best_count = n;
+      }
+    }
+    return true;
+  }
+
   template <typename F>
-  bool step_delta(const CompiledRule& r, const std::vector<std::uint32_t>& plan, std::size_t step,
-                  std::uint32_t seed, TripleId seed_id, Env& env, std::vector<TripleId>& premises,
-                  F& on_match) {
-    if (step == plan.size()) {
+  bool step(const CompiledRule& r, std::uint64_t remaining, const Limit& limit, Env& env,
+            std::vector<TripleId>& premises, F& on_match) {
+    if (remaining == 0) {
       return on_match(env, premises);
     }
-    const std::uint32_t pi = plan[step];
+    std::uint32_t pi = 0;
+    if (!choose(r, remaining, env, pi)) {
+      return false;
+    }
     const Pattern& p = r.patterns[pi];
-    // Patterns before the seed use strictly older triples, those after it may reuse the seed.
-    const TripleId limit = pi < seed ? seed_id : seed_id + 1;
-    return store_.match(lookup(p, env), limit, [&](TripleId id) {
+    const std::uint64_t rest = remaining & ~(std::uint64_t{1} << pi);
+    return store_.match(lookup(p, env), limit.for_pattern(pi), [&](TripleId id) {
       Bound newly;
       bool stop = false;
       if (bind(p, id, env, newly)) {
         premises[pi] = id;
-        stop = step_delta(r, plan, step + 1, seed, seed_id, env, premises, on_match);
-      }
-      newly.undo(env);
-      return stop;
-    });
-  }
-
-  template <typename F>
-  bool step_solve(const CompiledRule& r, std::uint64_t remaining, Env& env, std::vector<TripleId>& premises,
-                  F& on_match) {
-    if (remaining == 0) {
-      return on_match(env, premises);
-    }
-    std::uint32_t best = 0;
-    std::size_t best_count = ~std::size_t{0};
-    for (std::uint32_t i = 0; i < r.patterns.size(); ++i) {
-      if ((remaining >> i & 1) != 0) {
-        const std::size_t n = store_.estimate(lookup(r.patterns[i], env));
-        if (n < best_count) {
-          best = i;
-          best_count = n;
-        }
-      }
-    }
-    if (best_count == 0) {
-      return false;
-    }
-    const Pattern& p = r.patterns[best];
-    return store_.match(lookup(p, env), store_.next_id(), [&](TripleId id) {
-      Bound newly;
-      bool stop = false;
-      if (bind(p, id, env, newly)) {
-        premises[best] = id;
-        stop = step_solve(r, remaining & ~(std::uint64_t{1} << best), env, premises, on_match);
+        stop = step(r, rest, limit, env, premises, on_match);
       }
       newly.undo(env);
       return stop;

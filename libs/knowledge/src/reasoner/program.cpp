@@ -20,43 +20,6 @@ Pattern pattern(const TriplePattern& tp, std::uint32_t body_index, const Diction
   return Pattern{body_index, slot(tp.s, dict), slot(tp.p, dict), slot(tp.o, dict)};
 }
 
-// How constrained a pattern is once `bound` variables are known: the predicate counts most
-// (every index starts from it), then subject and object.
-int boundness(const Pattern& p, const std::vector<bool>& bound) {
-  const auto is_bound = [&](const Slot& s) { return !s.is_var || bound[s.var]; };
-  return (is_bound(p.p) ? 4 : 0) + (is_bound(p.s) ? 3 : 0) + (is_bound(p.o) ? 2 : 0);
-}
-
-void mark(const Pattern& p, std::vector<bool>& bound) {
-  for (const Slot* s : {&p.s, &p.p, &p.o}) {
-    if (s->is_var) {
-      bound[s->var] = true;
-    }
-  }
-}
-
-// Greedy join order starting from the seed pattern: always the most bound pattern next.
-std::vector<std::uint32_t> plan_from(const CompiledRule& r, std::uint32_t seed) {
-  std::vector<bool> bound(r.vars, false);
-  mark(r.patterns[seed], bound);
-  std::vector<std::uint32_t> rest;
-  for (std::uint32_t i = 0; i < r.patterns.size(); ++i) {
-    if (i != seed) {
-      rest.push_back(i);
-    }
-  }
-  std::vector<std::uint32_t> order;
-  while (!rest.empty()) {
-    auto best = std::max_element(rest.begin(), rest.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return boundness(r.patterns[a], bound) < boundness(r.patterns[b], bound);
-    });
-    order.push_back(*best);
-    mark(r.patterns[*best], bound);
-    rest.erase(best);
-  }
-  return order;
-}
-
 void index_no_value(Program& prog, const CompiledRule& r) {
   for (const BuiltinCall* g : r.guards) {
     if (g->op != Builtin::no_value) {
@@ -114,7 +77,6 @@ Program compile(const RuleSet& rules, const Dictionary& dict) {
       }
     }
     for (std::uint32_t i = 0; i < r.patterns.size(); ++i) {
-      r.plans.push_back(plan_from(r, i));
       const Slot& p = r.patterns[i].p;
       (p.is_var ? prog.wildcard_triggers : prog.triggers[p.term]).push_back(Ref{r.index, i});
     }

@@ -1,6 +1,6 @@
-// Rules compiled for the engine: body patterns with value ids of their constants, join plans
-// per seed pattern, and the indexes from a predicate to the rules it can trigger, the head
-// patterns that can produce it and the noValue guards that test it.
+// Rules compiled for the engine: body patterns with value ids of their constants, and the
+// indexes from a predicate to the rules it can trigger, the head patterns that can produce it
+// and the noValue guards that test it.
 #pragma once
 
 #include <cstdint>
@@ -29,11 +29,10 @@ struct Pattern {
 struct CompiledRule {
   const Rule* rule = nullptr;
   std::uint32_t index = 0;
-  std::vector<Pattern> patterns;                  // body triple patterns in body order
-  std::vector<const BuiltinCall*> guards;         // body builtins in body order
-  std::vector<Pattern> heads;                     // head triple patterns
-  std::vector<const BuiltinCall*> actions;        // head builtins (print, remove)
-  std::vector<std::vector<std::uint32_t>> plans;  // per seed pattern: the other patterns in join order
+  std::vector<Pattern> patterns;            // body triple patterns in body order
+  std::vector<const BuiltinCall*> guards;   // body builtins in body order
+  std::vector<Pattern> heads;               // head triple patterns
+  std::vector<const BuiltinCall*> actions;  // head builtins (print, remove)
   std::uint32_t vars = 0;
   std::vector<bool> in_body;      // per variable: occurs in the body (else a head use is a fresh blank node)
   std::vector<bool> in_patterns;  // per variable: occurs in a body triple pattern

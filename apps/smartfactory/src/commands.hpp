@@ -37,4 +37,7 @@ void register_opcua(CLI::App& app, CommandResult& result);
 // `kb reason|to-nodeset|generate` (knowledge module).
 void register_kb(CLI::App& app, CommandResult& result);
 
+// `history query|series|events|retention|write` (historian module).
+void register_history(CLI::App& app, CommandResult& result);
+
 }  // namespace sf::app

@@ -43,7 +43,7 @@ class Connection {
     using R = std::invoke_result_t<F, pqxx::connection&>;
     auto conn = connect();
     if (!conn) {
-      return conn.error().with_context(what);
+      return conn.error();  // says itself what it tried
     }
     try {
       if constexpr (std::is_void_v<R>) {

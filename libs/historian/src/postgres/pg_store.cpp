@@ -1,7 +1,8 @@
-// PostgreSQL back end over libpqxx 6.4. A batch is COPYed into a temporary
+// PostgreSQL back end over libpqxx 6.4. A batch is COPYed into its table
+// (PostgreSQL's fastest way in); when that fails because some keys are
+// stored already (a re-delivered batch), it is COPYed into a temporary
 // staging table and moved with one INSERT ... SELECT ... ON CONFLICT DO
-// NOTHING: COPY is PostgreSQL's fastest way in, and the INSERT makes
-// re-delivered rows no-ops (COPY itself has no ON CONFLICT). Samples and
+// NOTHING, which makes the re-delivered rows no-ops (COPY has no ON CONFLICT). Samples and
 // events live in time-partitioned tables (pg_schema.hpp). Reads use prepared
 // statements. The connection comes back by itself after the server does.
 #include "postgres/pg_store.hpp"
@@ -227,14 +228,26 @@ Result<std::vector<Series>> PgStore::list_series() {
 template <typename Row, typename Item>
 void PgStore::copy_in(pqxx::connection& c, std::string_view table, const std::vector<std::string>& columns,
                       std::span<const Item> items, Row row) {
-  pqxx::work tx(c);
-  {
-    pqxx::stream_to copy(tx, fmt::format("sf_staging_{}", table), columns);
+  const auto stream = [&](pqxx::work& tx, const std::string& target) {
+    pqxx::stream_to copy(tx, target, columns);
     for (const auto& item : items) {
       copy << row(item);
     }
     copy.complete();
+  };
+  // Usually every row is new: COPY straight into the table, as fast as
+  // PostgreSQL loads anything. COPY is all or nothing, so a key stored
+  // already (a batch sent again after a failure) fails the whole batch...
+  try {
+    pqxx::work tx(c);
+    stream(tx, std::string{table});
+    tx.commit();
+    return;
+  } catch (const pqxx::unique_violation&) {
   }
+  // ...which then goes through the staging table, skipping what is stored.
+  pqxx::work tx(c);
+  stream(tx, fmt::format("sf_staging_{}", table));
   const auto list = fmt::format("{}", fmt::join(columns, ", "));
   tx.exec(fmt::format("INSERT INTO {0} ({1}) SELECT {1} FROM sf_staging_{0} ON CONFLICT DO NOTHING", table,
                       list));

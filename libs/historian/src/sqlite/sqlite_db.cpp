@@ -29,7 +29,9 @@ Error to_error(int rc, std::string_view what, std::string_view detail) {
     default:
       break;
   }
-  return make_error(code, fmt::format("sqlite {}: {} ({})", what, detail, sqlite3_errstr(rc)));
+  const std::string_view general = sqlite3_errstr(rc);
+  return make_error(code, detail == general ? fmt::format("sqlite {}: {}", what, detail)
+                                            : fmt::format("sqlite {}: {} ({})", what, detail, general));
 }
 
 namespace {

@@ -379,7 +379,12 @@ Status configure(Db& db, const detail::StoreUrl& url) {
     return make_error(Errc::io, fmt::format("sqlite:{}: cannot switch to WAL mode (journal_mode is {})",
                                             url.target, *mode));
   }
-  return db.exec(fmt::format("PRAGMA synchronous = {}; PRAGMA foreign_keys = ON", sync));
+  // Checkpoints every 10 000 WAL pages (40 MB) rather than 1 000: a batch of
+  // samples spread over many series touches a page per series, and each
+  // checkpoint copies those pages back and syncs; measured 1.3x the ingest
+  // rate with batches of 1 000 (bench_historian_ingest).
+  return db.exec(fmt::format(
+      "PRAGMA synchronous = {}; PRAGMA foreign_keys = ON; PRAGMA wal_autocheckpoint = 10000", sync));
 }
 
 }  // namespace

@@ -4,7 +4,10 @@
 // process so that its peak resident memory (getrusage ru_maxrss) is its own. Then the latency of
 // one live-value change (a machine's temperature) maintained incrementally, in both.
 //
-//   bench_knowledge [--sizes 100000,1000000] [--updates 200] [--no-jena]
+//   bench_knowledge [--sizes 100000,1000000] [--updates 200] [--no-jena] [--jena-xmx 16g]
+//
+// --jena-xmx sets the JVM's maximum heap (default: the JVM's own, a quarter of the memory);
+// at a million triples Jena's RETE network needs more than that.
 //
 // Times: reasoning only (closure from loaded data); "load" is parsing the N-Triples file.
 #include <sys/resource.h>
@@ -193,6 +196,7 @@ int main(int argc, char** argv) {
   std::vector<std::size_t> sizes = {100'000, 1'000'000};
   int updates = 200;
   bool jena = true;
+  std::string xmx;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sizes" && i + 1 < argc) {
@@ -203,10 +207,12 @@ int main(int argc, char** argv) {
       }
     } else if (a == "--updates" && i + 1 < argc) {
       updates = std::stoi(argv[++i]);
+    } else if (a == "--jena-xmx" && i + 1 < argc) {
+      xmx = argv[++i];
     } else if (a == "--no-jena") {
       jena = false;
     } else {
-      std::cerr << "usage: bench_knowledge [--sizes N,N] [--updates N] [--no-jena]\n";
+      std::cerr << "usage: bench_knowledge [--sizes N,N] [--updates N] [--no-jena] [--jena-xmx SIZE]\n";
       return 2;
     }
   }
@@ -235,10 +241,11 @@ int main(int argc, char** argv) {
     const Measured a = in_child([&] { return ours(data, updates); });
     Measured b;
     if (jena) {
-      b = command(
-          fmt::format("java -cp '{}' JenaReason --data {} --data {} --rules {} --rules {} --rules {} --stats "
-                      "--updates {} --update-property {}temperature",
-                      classpath, kOntology, data, kRules[0], kRules[1], kRules[2], updates, kb::vocab::kSf));
+      b = command(fmt::format(
+          "java {} -cp '{}' JenaReason --data {} --data {} --rules {} --rules {} --rules {} --stats "
+          "--updates {} --update-property {}temperature",
+          xmx.empty() ? std::string() : "-Xmx" + xmx, classpath, kOntology, data, kRules[0], kRules[1],
+          kRules[2], updates, kb::vocab::kSf));
     }
     if (!a.ok) {
       std::cerr << "our run failed\n";

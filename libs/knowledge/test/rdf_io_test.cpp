@@ -29,6 +29,19 @@ TEST(RdfIo, ReadsTurtleTermsAndPrefixes) {
   EXPECT_EQ(doc->triples.size(), 14U);  // 8 direct, 1 axis, 4 list cells, 1 list link
 }
 
+TEST(RdfIo, EmptyAndTinyDocuments) {
+  Dictionary d;
+  // serd's byte-order-mark check reads ahead; short input must not make it read garbage.
+  for (const char* text : {"", " ", "\n", "#", "# c"}) {
+    for (Syntax syntax : {Syntax::turtle, Syntax::ntriples}) {
+      auto doc = read_rdf_string(d, text, syntax, "tiny");
+      ASSERT_TRUE(doc.ok()) << "'" << text << "': " << doc.error().message;
+      EXPECT_TRUE(doc->triples.empty());
+    }
+  }
+  EXPECT_FALSE(read_rdf_string(d, std::string_view("<a>\0", 4), Syntax::turtle, "nul").ok());
+}
+
 TEST(RdfIo, BlankNodesAreScopedToTheirDocument) {
   Dictionary d;
   auto a = read_rdf_string(d, "_:x <http://ex/p> <http://ex/o> .", Syntax::ntriples, "a.nt");

@@ -83,6 +83,7 @@ public class JenaReason {
     double[] latencies = updates > 0 ? update(inf, updates, updateProperty) : new double[0];
     if (stats) {
       System.gc();
+      java.lang.ref.Reference.reachabilityFence(inf);
       Runtime rt = Runtime.getRuntime();
       double heapMb = (rt.totalMemory() - rt.freeMemory()) / 1048576.0;
       System.err.printf(Locale.ROOT,

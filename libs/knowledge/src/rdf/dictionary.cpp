@@ -12,7 +12,17 @@ class Dictionary::Table : public detail::IdTable {};
 
 namespace {
 constexpr std::size_t kChunkBytes = 1 << 20;
+
+// memcpy must not see the null data() of an empty view.
+void copy(char* to, std::string_view text, std::string_view lang) {
+  if (!text.empty()) {
+    std::memcpy(to, text.data(), text.size());
+  }
+  if (!lang.empty()) {
+    std::memcpy(to + text.size(), lang.data(), lang.size());
+  }
 }
+}  // namespace
 
 Dictionary::Dictionary()
     : recs_(1), terms_(std::make_unique<Table>()), values_by_value_(std::make_unique<Table>()) {
@@ -132,8 +142,7 @@ const char* Dictionary::store_text(std::string_view text, std::string_view lang)
   text_bytes_ += need;
   if (need > kChunkBytes / 4) {
     auto big = std::make_unique<char[]>(need + 1);
-    std::memcpy(big.get(), text.data(), text.size());
-    std::memcpy(big.get() + text.size(), lang.data(), lang.size());
+    copy(big.get(), text, lang);
     const char* p = big.get();
     chunks_.insert(chunks_.begin(), std::move(big));  // keep the current chunk last
     return p;
@@ -143,8 +152,7 @@ const char* Dictionary::store_text(std::string_view text, std::string_view lang)
     chunk_used_ = 0;
   }
   char* p = chunks_.back().get() + chunk_used_;
-  std::memcpy(p, text.data(), text.size());
-  std::memcpy(p + text.size(), lang.data(), lang.size());
+  copy(p, text, lang);
   chunk_used_ += need;
   return p;
 }

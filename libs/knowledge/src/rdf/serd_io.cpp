@@ -37,7 +37,8 @@ struct ReadState {
   Dictionary& dict;
   SerdEnv* env;
   std::string name;
-  std::string_view text;
+  std::string_view text;  // the input, or empty when reading a file (then read on demand)
+  std::string path;
   Document doc;
   std::string error;  // the first error, "name:line:col: message"
 
@@ -50,6 +51,14 @@ struct ReadState {
   // serd reports no position to the statement sink: locate the prefixed name in the text.
   void fail_curie(const SerdNode* n) {
     const std::string_view curie = view(n);
+    std::string file_text;
+    if (text.empty() && !path.empty()) {
+      std::ifstream in(path, std::ios::binary);
+      std::ostringstream all;
+      all << in.rdbuf();
+      file_text = all.str();
+      text = file_text;
+    }
     std::size_t at = text.find(curie);
     int line = 1;
     int col = 1;
@@ -138,7 +147,11 @@ SerdStatus on_error(void* handle, const SerdError* e) {
   char text[512];
   va_list args;
   va_copy(args, *e->args);
+  // serd hands over a printf format and its arguments (SerdError::fmt, ::args).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
   std::vsnprintf(text, sizeof text, e->fmt, args);
+#pragma GCC diagnostic pop
   va_end(args);
   std::string message(text);
   while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) {
@@ -156,13 +169,19 @@ Syntax syntax_for_path(std::string_view path) {
   return path.ends_with(".nt") ? Syntax::ntriples : Syntax::turtle;
 }
 
-Result<Document> read_rdf_string(Dictionary& dict, std::string_view text, Syntax syntax,
-                                 std::string_view name, std::string_view base_iri) {
+namespace {
+
+// Sets up a strict reader with our sinks, lets `read` feed it, and returns the document or the
+// first error.
+template <typename Read>
+Result<Document> read_document(Dictionary& dict, Syntax syntax, std::string_view name,
+                               std::string_view base_iri, std::string_view text, const std::string& path,
+                               Read&& read) {
   const std::string base(base_iri);
   SerdNode base_node = serd_node_from_string(SERD_URI, u8(base.c_str()));
   std::unique_ptr<SerdEnv, void (*)(SerdEnv*)> env(serd_env_new(base.empty() ? nullptr : &base_node),
                                                    serd_env_free);
-  ReadState st{dict, env.get(), std::string(name), text, {}, {}};
+  ReadState st{dict, env.get(), std::string(name), text, path, {}, {}};
   std::unique_ptr<SerdReader, void (*)(SerdReader*)> reader(
       serd_reader_new(syntax == Syntax::ntriples ? SERD_NTRIPLES : SERD_TURTLE, &st, nullptr, on_base,
                       on_prefix, on_statement, nullptr),
@@ -172,11 +191,7 @@ Result<Document> read_rdf_string(Dictionary& dict, std::string_view text, Syntax
   // Blank node labels are per document (RDF 1.1 Concepts §3.4).
   const std::string prefix = fmt::format("d{}_", ++g_documents);
   serd_reader_add_blank_prefix(reader.get(), u8(prefix.c_str()));
-  const std::string input(text);  // serd needs a terminating NUL
-  if (input.find('\0') != std::string::npos) {
-    return make_error(Errc::malformed, fmt::format("{}: contains a NUL byte", name));
-  }
-  const SerdStatus status = serd_reader_read_string(reader.get(), u8(input.c_str()));
+  const SerdStatus status = read(reader.get());
   if (!st.error.empty()) {
     return make_error(Errc::malformed, st.error);
   }
@@ -187,16 +202,33 @@ Result<Document> read_rdf_string(Dictionary& dict, std::string_view text, Syntax
   return std::move(st.doc);
 }
 
+}  // namespace
+
+Result<Document> read_rdf_string(Dictionary& dict, std::string_view text, Syntax syntax,
+                                 std::string_view name, std::string_view base_iri) {
+  if (text.find('\0') != std::string_view::npos) {
+    return make_error(Errc::malformed, fmt::format("{}: contains a NUL byte", name));
+  }
+  // serd reads a NUL-terminated string, and its byte-order-mark check looks up to three bytes
+  // ahead even in shorter input: pad with zeros so that it never reads past our buffer.
+  std::string input(text);
+  input.append(8, '\0');
+  return read_document(dict, syntax, name, base_iri, text, {}, [&](SerdReader* reader) {
+    return serd_reader_read_string(reader, u8(input.c_str()));
+  });
+}
+
+// Files are streamed through serd page by page: a large data file is never held in memory whole.
 Result<Document> read_rdf_file(Dictionary& dict, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
+  if (!file) {
     return make_error(Errc::io, fmt::format("{}: cannot open", path));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(path, ec);
-  return read_rdf_string(dict, text.str(), syntax_for_path(path), path, "file://" + absolute.string());
+  return read_document(
+      dict, syntax_for_path(path), path, "file://" + absolute.string(), {}, path,
+      [&](SerdReader* reader) { return serd_reader_read_file_handle(reader, file.get(), u8(path.c_str())); });
 }
 
 }  // namespace sf::knowledge

@@ -75,7 +75,6 @@ class Dictionary {
   std::vector<LiteralValue> values_;
   std::vector<std::unique_ptr<char[]>> chunks_;
   std::size_t chunk_used_ = 0;
-  std::size_t chunk_size_ = 0;
   std::size_t text_bytes_ = 0;
   std::unique_ptr<Table> terms_;
   std::unique_ptr<Table> values_by_value_;

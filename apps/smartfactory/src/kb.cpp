@@ -258,7 +258,8 @@ void register_kb(CLI::App& app, CommandResult& result) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   r->add_option("-o,--output", reason->output,
-                "Write the inferred triples to this file (.nt N-Triples, else Turtle) instead of stdout");
+                "Write the inferred triples to this file (.nt N-Triples, else Turtle) instead of stdout "
+                "(text output; violations stay on stdout)");
   r->callback([reason, &result] { result.exit_code = run_reason(*reason); });
 
   auto nodeset = std::make_shared<NodesetCliOptions>();

@@ -333,6 +333,10 @@ def parse_types(path, node_ids):
             if key not in node_ids:
                 fail(path, s.line, f"{key} is missing from node_ids.csv")
             setattr(s, attr, key)
+        # The XML encoding id is optional: only structures that travel in XML (NodeSet2 values)
+        # need it.
+        xml_key = s.name + "_Encoding_DefaultXml"
+        s.xml_encoding_id = xml_key if xml_key in node_ids else None
         s.min_size = sum(4 if f.array else min_size_of(f.type_name, names) for f in s.fields)
     for e in enums:
         if not e.values:
@@ -389,6 +393,8 @@ def emit_types_header(enums, structs, names):
               f"  static constexpr std::uint32_t kTypeId = id::{s.type_id};",
               f"  static constexpr std::uint32_t kBinaryEncodingId = id::{s.encoding_id};",
               f"  static constexpr std::size_t kMinEncodedSize = {s.min_size};", ""]
+        if s.xml_encoding_id:
+            h.insert(len(h) - 2, f"  static constexpr std::uint32_t kXmlEncodingId = id::{s.xml_encoding_id};")
         for f in s.fields:
             h.append(f"  {cpp_type(f, names)} {f.member}{default_init(f, names)};")
         if s.fields:

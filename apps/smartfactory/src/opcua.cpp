@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "opcua_nodeset.hpp"
 #include "opcua_values.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/client/client.hpp"
@@ -52,16 +53,16 @@ int run_server(const ServerOptions& o) {
   config.sessions.max_sessions = o.max_sessions;
   config.subscriptions.max_subscriptions = o.max_subscriptions;
   config.subscriptions.max_monitored_items = o.max_monitored_items;
-  if (!o.nodesets.empty()) {
-    std::cerr << "opcua server: --nodeset is not available yet (NodeSet2 import is being built)\n";
-    return kExitUsage;
-  }
   ua::server::Server server(config);
   if (o.demo_model) {
     if (auto st = ua::server::add_demo_model(server); !st) {
       std::cerr << "opcua server: demo model: " << st.error().describe() << "\n";
       return kExitFailure;
     }
+  }
+  if (auto st = load_nodesets(server, o.nodesets); !st) {
+    std::cerr << "opcua server: " << st.error().message << "\n";
+    return kExitFailure;
   }
   if (auto st = server.start(); !st) {
     std::cerr << "opcua server: " << st.error().describe() << "\n";
@@ -460,7 +461,8 @@ void register_opcua(CLI::App& app, CommandResult& result) {
       "Host name in the endpoint URLs the server advertises (default: this machine's name)");
   server_cmd->add_flag("--demo-model", server->demo_model,
                        "Add the demo model: Objects/Demo with Temperature, Counter and Multiply(a, b)");
-  server_cmd->add_option("--nodeset", server->nodesets, "Load a NodeSet2 XML file (repeatable)");
+  server_cmd->add_option("--nodeset", server->nodesets,
+                         "Load a NodeSet2 XML file (repeatable, in order; check one with `opcua nodeset`)");
   server_cmd->add_option("--max-sessions", server->max_sessions, "Sessions the server holds at most")
       ->capture_default_str();
   server_cmd->add_option("--max-subscriptions", server->max_subscriptions, "Subscriptions over all sessions")
@@ -523,6 +525,8 @@ void register_opcua(CLI::App& app, CommandResult& result) {
       ->add_option("--duration", subscribe->duration_s, "Stop after this many seconds (0 = no limit)")
       ->capture_default_str();
   subscribe_cmd->callback([subscribe, &result] { result.exit_code = run_subscribe(*subscribe); });
+
+  register_opcua_nodeset(*group, result);
 }
 
 }  // namespace sf::app

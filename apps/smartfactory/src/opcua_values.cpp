@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <ctime>
 #include <limits>
 
 #include <fmt/format.h>
@@ -51,26 +50,13 @@ Result<ua::Variant> parse_bool(std::string_view text) {
   return make_error(Errc::invalid_argument, fmt::format("'{}' is not a Boolean (true/false)", text));
 }
 
-// "2024-05-01T12:00:00Z" or with fractional seconds.
+// "2024-05-01T12:00:00Z", with fractional seconds or a zone offset (xs:dateTime).
 Result<ua::Variant> parse_date_time(std::string_view text) {
-  std::tm tm{};
-  const std::string copy(text);
-  const char* rest = strptime(copy.c_str(), "%Y-%m-%dT%H:%M:%S", &tm);
-  if (rest == nullptr) {
-    return make_error(Errc::invalid_argument, fmt::format("'{}' is not an ISO 8601 UTC time", text));
+  auto parsed = ua::DateTime::parse(text);
+  if (!parsed) {
+    return make_error(Errc::invalid_argument, parsed.error().message);
   }
-  double fraction = 0;
-  if (*rest == '.') {
-    char* after = nullptr;
-    fraction = std::strtod(rest, &after);
-    rest = after;
-  }
-  if (*rest != 'Z' && *rest != '\0') {
-    return make_error(Errc::invalid_argument, fmt::format("'{}': only UTC times ('Z') are accepted", text));
-  }
-  const auto seconds = static_cast<std::int64_t>(timegm(&tm));
-  const auto base = ua::DateTime::from_unix_seconds(seconds);
-  return ua::Variant(ua::DateTime(base.ticks() + static_cast<std::int64_t>(fraction * 1e7)));
+  return ua::Variant(*parsed);
 }
 
 Result<ua::Variant> parse_scalar(ua::BuiltinType type, std::string_view text) {

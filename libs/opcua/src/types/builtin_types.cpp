@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <ostream>
 
 #include <fmt/format.h>
@@ -136,6 +137,87 @@ DateTime DateTime::from_unix_seconds(std::int64_t seconds) {
     return max();
   }
   return DateTime{seconds * kTicksPerSecond + kUnixEpochTicks};
+}
+
+namespace {
+
+// Reads exactly `digits` decimal digits at text[at...]; -1 if they are not all digits.
+std::int64_t fixed_digits(std::string_view text, std::size_t at, std::size_t digits) {
+  if (at + digits > text.size()) {
+    return -1;
+  }
+  std::int64_t value = 0;
+  for (std::size_t i = at; i < at + digits; ++i) {
+    if (text[i] < '0' || text[i] > '9') {
+      return -1;
+    }
+    value = value * 10 + (text[i] - '0');
+  }
+  return value;
+}
+
+// "+hh:mm" / "-hh:mm" / "Z" / "" at text[at...] as seconds east of UTC; nullopt if malformed.
+std::optional<std::int64_t> zone_offset(std::string_view text, std::size_t at) {
+  const std::string_view zone = text.substr(at);
+  if (zone.empty() || zone == "Z") {
+    return 0;
+  }
+  if (zone.size() != 6 || (zone[0] != '+' && zone[0] != '-') || zone[3] != ':') {
+    return std::nullopt;
+  }
+  const std::int64_t hours = fixed_digits(zone, 1, 2);
+  const std::int64_t minutes = fixed_digits(zone, 4, 2);
+  if (hours < 0 || hours > 14 || minutes < 0 || minutes > 59) {
+    return std::nullopt;
+  }
+  return (zone[0] == '-' ? -1 : 1) * (hours * 3600 + minutes * 60);
+}
+
+}  // namespace
+
+Result<DateTime> DateTime::parse(std::string_view text) {
+  auto malformed = [&text] {
+    return make_error(Errc::malformed,
+                      fmt::format("'{}' is not an xs:dateTime (YYYY-MM-DDThh:mm:ss[.f][Z|±hh:mm])", text));
+  };
+  // YYYY-MM-DDThh:mm:ss is 19 characters with separators at fixed places.
+  if (text.size() < 19 || text[4] != '-' || text[7] != '-' || text[10] != 'T' || text[13] != ':' ||
+      text[16] != ':') {
+    return malformed();
+  }
+  const std::int64_t year = fixed_digits(text, 0, 4);
+  const std::int64_t month = fixed_digits(text, 5, 2);
+  const std::int64_t day = fixed_digits(text, 8, 2);
+  const std::int64_t hour = fixed_digits(text, 11, 2);
+  const std::int64_t minute = fixed_digits(text, 14, 2);
+  const std::int64_t second = fixed_digits(text, 17, 2);
+  const std::chrono::year_month_day ymd{std::chrono::year{static_cast<int>(year)},
+                                        std::chrono::month{static_cast<unsigned>(month)},
+                                        std::chrono::day{static_cast<unsigned>(day)}};
+  if (year < 0 || !ymd.ok() || hour < 0 || hour > 23 || minute < 0 || minute > 59 || second < 0 ||
+      second > 60) {
+    return malformed();
+  }
+  std::size_t at = 19;
+  std::int64_t fraction_ticks = 0;
+  if (at < text.size() && text[at] == '.') {
+    std::int64_t scale = kTicksPerSecond;
+    for (++at; at < text.size() && text[at] >= '0' && text[at] <= '9'; ++at) {
+      scale /= 10;  // digits beyond the 7th (100 ns) are dropped
+      fraction_ticks += (text[at] - '0') * scale;
+    }
+  }
+  const auto offset = zone_offset(text, at);
+  if (!offset) {
+    return malformed();
+  }
+  const std::int64_t unix_seconds = std::chrono::sys_days{ymd}.time_since_epoch().count() * 86'400LL +
+                                    hour * 3600 + minute * 60 + second - *offset;
+  const DateTime whole = from_unix_seconds(unix_seconds);
+  if (whole.ticks() <= 0 || whole == max()) {
+    return whole;
+  }
+  return DateTime{whole.ticks() + fraction_ticks};
 }
 
 std::chrono::system_clock::time_point DateTime::to_system_clock() const {

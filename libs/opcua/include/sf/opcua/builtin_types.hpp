@@ -153,6 +153,9 @@ class DateTime {
   // Times at or before 1601 become 0, times at or after 9999-12-31 23:59:59 become max().
   static DateTime from_system_clock(std::chrono::system_clock::time_point t);
   static DateTime from_unix_seconds(std::int64_t seconds);
+  // The xs:dateTime form of the XML encoding (OPC 10000-6 §5.3.1.6): "2024-05-01T12:00:00Z",
+  // with up to 7 fraction digits and "Z" or a "+hh:mm"/"-hh:mm" offset (none = UTC).
+  static Result<DateTime> parse(std::string_view text);
   // Saturates at the limits of system_clock (which cannot represent 1601 or 9999).
   [[nodiscard]] std::chrono::system_clock::time_point to_system_clock() const;
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -43,6 +44,14 @@ class Array : public std::vector<T> {
 
  private:
   bool null_ = false;
+};
+
+// IsArray<T>::value: T is an Array<E>; IsArray<T>::Element is E.
+template <typename T>
+struct IsArray : std::false_type {};
+template <typename T>
+struct IsArray<Array<T>> : std::true_type {
+  using Element = T;
 };
 
 // An optional value held on the heap with value semantics (deep copy, deep comparison), for the

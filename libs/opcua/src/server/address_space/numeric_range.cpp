@@ -13,13 +13,6 @@ namespace sf::opcua::server {
 namespace {
 
 template <typename T>
-struct IsArray : std::false_type {};
-template <typename T>
-struct IsArray<Array<T>> : std::true_type {
-  using Element = T;
-};
-
-template <typename T>
 constexpr bool kIsText = std::is_same_v<T, String> || std::is_same_v<T, ByteString>;
 
 Error invalid(std::string_view text, std::string_view why) {

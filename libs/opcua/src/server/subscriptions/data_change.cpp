@@ -13,13 +13,6 @@ namespace {
 template <typename T>
 inline constexpr bool kNumber = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;
 
-template <typename T>
-struct IsArray : std::false_type {};
-template <typename T>
-struct IsArray<Array<T>> : std::true_type {
-  using element = T;
-};
-
 // Element `index` of a numeric scalar (index 0) or array as double; nullopt when not numeric.
 std::optional<double> number_at(const Variant& v, std::size_t index) {
   return std::visit(
@@ -28,7 +21,7 @@ std::optional<double> number_at(const Variant& v, std::size_t index) {
         if constexpr (kNumber<T>) {
           return static_cast<double>(x);
         } else if constexpr (IsArray<T>::value) {
-          if constexpr (kNumber<typename IsArray<T>::element>) {
+          if constexpr (kNumber<typename IsArray<T>::Element>) {
             if (index < x.size()) {
               return static_cast<double>(x[index]);
             }
@@ -86,7 +79,7 @@ bool is_numeric(const Variant& value) {
       [](const auto& x) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (IsArray<T>::value) {
-          return kNumber<typename IsArray<T>::element>;
+          return kNumber<typename IsArray<T>::Element>;
         } else {
           return kNumber<T>;
         }

@@ -3,6 +3,7 @@
 // Everything here parses options and prints; the opcua module does the work.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -37,6 +38,7 @@ struct ServerOptions {
   std::uint16_t port = 4840;
   std::string advertised_host;
   bool demo_model = false;
+  std::size_t bench_variables = 0;
   std::vector<std::string> nodesets;
   std::size_t max_sessions = 100;
   std::size_t max_subscriptions = 1000;
@@ -51,11 +53,15 @@ int run_server(const ServerOptions& o) {
   config.transport.port = o.port;
   config.advertised_host = o.advertised_host;
   config.sessions.max_sessions = o.max_sessions;
+  // Each session needs its own secure channel.
+  config.transport.max_channels = std::max(config.transport.max_channels, o.max_sessions);
   config.subscriptions.max_subscriptions = o.max_subscriptions;
   config.subscriptions.max_monitored_items = o.max_monitored_items;
   ua::server::Server server(config);
   if (o.demo_model) {
-    if (auto st = ua::server::add_demo_model(server); !st) {
+    ua::server::DemoModelOptions demo;
+    demo.bench_variables = o.bench_variables;
+    if (auto st = ua::server::add_demo_model(server, demo); !st) {
       std::cerr << "opcua server: demo model: " << st.error().describe() << "\n";
       return kExitFailure;
     }
@@ -461,9 +467,17 @@ void register_opcua(CLI::App& app, CommandResult& result) {
       "Host name in the endpoint URLs the server advertises (default: this machine's name)");
   server_cmd->add_flag("--demo-model", server->demo_model,
                        "Add the demo model: Objects/Demo with Temperature, Counter and Multiply(a, b)");
+  server_cmd
+      ->add_option("--bench-variables", server->bench_variables,
+                   "With --demo-model, for benchmarks: N more Double variables ns=<demo>;s=Demo.Bench.0 .. "
+                   "Demo.Bench.<N-1>, all changing every 100 ms")
+      ->needs("--demo-model")
+      ->capture_default_str();
   server_cmd->add_option("--nodeset", server->nodesets,
                          "Load a NodeSet2 XML file (repeatable, in order; check one with `opcua nodeset`)");
-  server_cmd->add_option("--max-sessions", server->max_sessions, "Sessions the server holds at most")
+  server_cmd
+      ->add_option("--max-sessions", server->max_sessions,
+                   "Sessions the server holds at most (and secure channels, at least 100)")
       ->capture_default_str();
   server_cmd->add_option("--max-subscriptions", server->max_subscriptions, "Subscriptions over all sessions")
       ->capture_default_str();

@@ -1,7 +1,13 @@
 // A node-opcua server with the smartfactory demo model, for interop tests of our OPC UA client
 // (libs/opcua/test/client). node-opcua is pinned in /package.json.
 //
-//   node tests/peers/opcua/node_server.mjs <port>     (0 = pick a free port)
+//   node tests/peers/opcua/node_server.mjs <port> [--variables N] [--max-sessions N]
+//       <port>            0 = pick a free port
+//       --variables N     for benchmarks (bench/bench_opcua_server): N more Double variables
+//                         ns=<i>;s=Demo.Bench.0 .. Demo.Bench.<N-1> in the folder Demo/Bench,
+//                         read-only, all with a new value every 100 ms (variable i at step s:
+//                         s + i/1000), as `smartfactory opcua server --bench-variables N`
+//       --max-sessions N  sessions and connections the server accepts (node-opcua's default: 10)
 //
 // Listens on 127.0.0.1 with SecurityPolicy None and anonymous access, prints one line
 // "READY <port>" on stdout once it accepts connections, and exits when stdin closes (so a test
@@ -132,9 +138,60 @@ function build_demo_model(addressSpace) {
   };
 }
 
+function build_bench_variables(addressSpace, count) {
+  if (count <= 0) {
+    return () => {};
+  }
+  const ns = addressSpace.getNamespace("urn:smartfactory:demo");
+  const folder = ns.addObject({
+    organizedBy: addressSpace.findNode(`ns=${ns.index};s=Demo`),
+    typeDefinition: "FolderType",
+    browseName: "Bench",
+    nodeId: "s=Demo.Bench",
+  });
+  const variables = [];
+  for (let i = 0; i < count; i += 1) {
+    variables.push(
+      ns.addVariable({
+        organizedBy: folder,
+        browseName: `${i}`,
+        nodeId: `s=Demo.Bench.${i}`,
+        dataType: "Double",
+        accessLevel: "CurrentRead",
+        userAccessLevel: "CurrentRead",
+        minimumSamplingInterval: 100,
+        value: { dataType: DataType.Double, value: i / 1000 },
+      }),
+    );
+  }
+  let step = 0;
+  const timer = setInterval(() => {
+    step += 1;
+    for (let i = 0; i < variables.length; i += 1) {
+      variables[i].setValueFromSource(new Variant({ dataType: DataType.Double, value: step + i / 1000 }));
+    }
+  }, 100);
+  return () => clearInterval(timer);
+}
+
+// <port> [--variables N] [--max-sessions N]
+function parse_args(args) {
+  const options = { port: 0, variables: 0, maxSessions: 0 };
+  for (let i = 0; i < args.length; i += 1) {
+    if (args[i] === "--variables") {
+      options.variables = Number.parseInt(args[(i += 1)], 10);
+    } else if (args[i] === "--max-sessions") {
+      options.maxSessions = Number.parseInt(args[(i += 1)], 10);
+    } else {
+      options.port = Number.parseInt(args[i], 10);
+    }
+  }
+  return options;
+}
+
 async function main() {
-  const requested = Number.parseInt(process.argv[2] ?? "0", 10);
-  const port = requested > 0 ? requested : await free_port();
+  const options = parse_args(process.argv.slice(2));
+  const port = options.port > 0 ? options.port : await free_port();
 
   // Keep the PKI (node-opcua creates a self-signed certificate on first start) in one place per
   // user, so later starts are fast and nothing is written into the source tree.
@@ -151,9 +208,20 @@ async function main() {
     serverCertificateManager,
     disableDiscovery: true,
     buildInfo: { productName: "smartfactory node-opcua test server" },
+    ...(options.maxSessions > 0
+      ? {
+          maxConnectionsPerEndpoint: options.maxSessions,
+          serverCapabilities: { maxSessions: options.maxSessions },
+        }
+      : {}),
   });
   await server.initialize();
-  const stop_model = build_demo_model(server.engine.addressSpace);
+  const stop_demo = build_demo_model(server.engine.addressSpace);
+  const stop_bench = build_bench_variables(server.engine.addressSpace, options.variables);
+  const stop_model = () => {
+    stop_demo();
+    stop_bench();
+  };
   await server.start();
   process.stdout.write(`READY ${port}\n`);
 

@@ -21,6 +21,16 @@ constexpr bool kIsRequest = requires(T t) {
   t.request_header;
 };
 
+// Services that cannot move next_due() earlier: they neither create nor change sessions,
+// subscriptions, monitored items or queued Publish requests (they only extend their session's
+// lifetime). Rescheduling after them would cost a pass over every monitored item per request.
+template <typename T>
+constexpr bool kLeavesScheduleAlone =
+    std::is_same_v<T, ReadRequest> || std::is_same_v<T, WriteRequest> || std::is_same_v<T, BrowseRequest> ||
+    std::is_same_v<T, BrowseNextRequest> || std::is_same_v<T, TranslateBrowsePathsToNodeIdsRequest> ||
+    std::is_same_v<T, RegisterNodesRequest> || std::is_same_v<T, UnregisterNodesRequest> ||
+    std::is_same_v<T, GetEndpointsRequest> || std::is_same_v<T, FindServersRequest>;
+
 }  // namespace
 
 // One request in flight: where its response goes.
@@ -124,8 +134,10 @@ std::vector<EndpointDescription> Dispatcher::endpoints(std::string_view endpoint
 void Dispatcher::on_request(const std::shared_ptr<ServerChannel>& channel, std::uint32_t request_id,
                             Message request) {
   Call call{channel, request_id};
+  const bool may_reschedule = std::visit(
+      [](const auto& typed) { return !kLeavesScheduleAlone<std::decay_t<decltype(typed)>>; }, request);
   std::visit([&](auto& typed) { handle(call, typed); }, request);
-  if (on_schedule_changed_) {
+  if (may_reschedule && on_schedule_changed_) {
     on_schedule_changed_();
   }
 }

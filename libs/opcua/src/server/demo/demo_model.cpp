@@ -95,9 +95,17 @@ Status add_demo_nodes(AddressSpace& space) {
 
 Status add_demo_model(Server& server, DemoModelOptions options) {
   Status result;
-  server.with_address_space([&](AddressSpace& space) { result = add_demo_nodes(space); });
+  server.with_address_space([&](AddressSpace& space) {
+    result = add_demo_nodes(space);
+    if (result && options.bench_variables > 0) {
+      result = add_bench_variables(space, options.bench_variables);
+    }
+  });
   if (!result) {
     return result;
+  }
+  if (options.bench_variables > 0) {
+    start_bench_timer(server, options.bench_variables, options.bench_period);
   }
   server.with_address_space([&server, options](AddressSpace& space) {
     const NodeId temperature(*space.namespace_index(kDemoNamespaceUri), String("Demo.Temperature"));

@@ -315,5 +315,45 @@ TEST_F(DispatcherTest, WriteThenSubscribeDeliversTheValueThroughPublish) {
   EXPECT_EQ(dispatcher_->subscriptions().subscription_count(), 0U);
 }
 
+// The server re-arms its timer after requests that may make something due earlier (a new
+// session's expiry, a subscription's cycle, a monitored item's sampling, a Publish deadline),
+// and not after attribute and view services, which would only cost it a pass over every
+// monitored item per request.
+TEST_F(DispatcherTest, OnlyRequestsThatMayMoveTheScheduleAskForATick) {
+  int reschedules = 0;
+  dispatcher_->set_on_schedule_changed([&reschedules] { ++reschedules; });
+  auto channel = std::make_shared<FakeChannel>(1);
+  const NodeId token = open_session(channel);
+  EXPECT_EQ(reschedules, 2);  // CreateSession, ActivateSession
+
+  read_value(channel, token, counter());
+  WriteRequest write;
+  write.request_header.authentication_token = token;
+  WriteValue item;
+  item.node_id = counter();
+  item.attribute_id = 13;
+  item.value = DataValue(Variant(std::int32_t{7}));
+  write.nodes_to_write = Array<WriteValue>{item};
+  dispatcher_->on_request(channel, next_id_++, write);
+  BrowseRequest browse;
+  browse.request_header.authentication_token = token;
+  browse.nodes_to_browse = Array<BrowseDescription>{BrowseDescription{}};
+  browse.nodes_to_browse[0].node_id = NodeId(0, id::ObjectsFolder);
+  dispatcher_->on_request(channel, next_id_++, browse);
+  dispatcher_->on_request(channel, next_id_++, GetEndpointsRequest{});
+  EXPECT_EQ(reschedules, 2);
+
+  CreateSubscriptionRequest create;
+  create.request_header.authentication_token = token;
+  create.requested_publishing_interval = 100;
+  create.publishing_enabled = true;
+  dispatcher_->on_request(channel, next_id_++, create);
+  EXPECT_EQ(reschedules, 3);
+  PublishRequest publish;
+  publish.request_header.authentication_token = token;
+  dispatcher_->on_request(channel, next_id_++, publish);
+  EXPECT_EQ(reschedules, 4);
+}
+
 }  // namespace
 }  // namespace sf::opcua::server

@@ -4,9 +4,14 @@
 //   Counter      Int32, read-write
 //   Multiply     method (a: Double, b: Double) → Double
 // NodeIds are strings ("Demo", "Demo.Temperature", ...) so clients can name them.
+//
+// For benchmarks (bench/bench_opcua_server) the model can carry N more variables: the folder
+// Demo/Bench holding Demo.Bench.0 … Demo.Bench.<N-1>, Double, read-only, minimum sampling
+// interval 100 ms, all with a new value every bench_period (variable i at step s: s + i/1000).
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 
 #include "sf/core/result.hpp"
 #include "sf/opcua/server/server.hpp"
@@ -17,6 +22,8 @@ inline constexpr std::string_view kDemoNamespaceUri = "urn:smartfactory:demo";
 
 struct DemoModelOptions {
   std::chrono::milliseconds temperature_period{100};
+  std::size_t bench_variables = 0;  // Demo.Bench.<i>, none by default
+  std::chrono::milliseconds bench_period{100};
 };
 
 // Adds the model and starts the Temperature timer on the server's loop.
@@ -24,5 +31,11 @@ Status add_demo_model(Server& server, DemoModelOptions options = {});
 
 // The model without the timer (for tests of the address space alone).
 Status add_demo_nodes(AddressSpace& space);
+
+// The Bench folder under Demo with `count` variables at step 0, without the timer (after
+// add_demo_nodes).
+Status add_bench_variables(AddressSpace& space, std::size_t count);
+// Steps the first `count` bench variables every `period` on the server's loop.
+void start_bench_timer(Server& server, std::size_t count, std::chrono::milliseconds period);
 
 }  // namespace sf::opcua::server

@@ -1,0 +1,853 @@
+// Our OPC UA server next to a node-opcua server, measured in the same run with the same client
+// (sf::opcua::Client) and the same model: the demo model plus 1 000 Double variables
+// ns=<demo>;s=Demo.Bench.<i> that all change every 100 ms.
+//
+//   ours:       smartfactory opcua server --demo-model --bench-variables 1000 --max-sessions N
+//   node-opcua: node tests/peers/opcua/node_server.mjs 0 --variables 1000 --max-sessions N
+//
+// Both run as processes of their own, on 127.0.0.1, SecurityPolicy None, anonymous. While one
+// server is measured the other is stopped (SIGSTOP), so neither disturbs the other's figures.
+// Figures, each as ours, node-opcua, ratio ours / node-opcua:
+//   1. Read: values/s with 1 and with 100 values per ReadRequest (Value attribute, both
+//      timestamps), one session, `--depth` requests outstanding (8), for `--read-seconds` (3)
+//      after a warm-up; with the CPU the server and this process (the client) used meanwhile.
+//   2. Data changes: one subscription (publishing 100 ms) with 1 000 monitored items (sampling
+//      100 ms, queue 1) on the Bench variables; notifications/s over `--notify-seconds` (5),
+//      the fraction of the 10 000/s the model produces, and the server's CPU.
+//   3. Sessions: up to `--sessions` (500) sessions, each on its own TCP connection and secure
+//      channel, 16 being opened at a time; how many are held, how long opening them took and
+//      the server's RSS with them held. Both servers are configured for exactly that many.
+//   4. RSS (VmRSS of /proc/<pid>/status): idle (model loaded, no client) and loaded (the
+//      largest sample during the data-change run).
+// A readable table on stdout (`--json`: one JSON object), progress on stderr. `--quick` is a
+// short smoke run (1 s of reads, 2 s of data changes, 50 sessions); `--only reads|notify|sessions`
+// runs one phase (for profiling one server: `--smartfactory` may name a wrapper script).
+//
+//   build/release/bench/bench_opcua_server [--quick] [--json]
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sf/core/log.hpp"
+#include "sf/net/event_loop.hpp"
+#include "sf/opcua/client/client.hpp"
+#include "sf/opcua/status_codes.hpp"
+
+extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spawn needs it
+
+namespace {
+
+namespace ua = sf::opcua;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+constexpr std::string_view kDemoNamespace = "urn:smartfactory:demo";
+
+struct Options {
+  bool quick = false;
+  bool json = false;
+  bool verbose = false;  // the servers' stderr goes to ours
+  std::string only;      // one phase (reads, notify, sessions), e.g. for profiling
+  std::size_t variables = 1000;
+  std::size_t sessions = 500;
+  std::size_t depth = 8;
+  std::size_t read_with_items = 0;  // monitored items on another session during the reads
+  double read_seconds = 3;
+  double notify_seconds = 5;
+  fs::path smartfactory;
+  fs::path source_dir;
+};
+
+void progress(const std::string& text) {
+  std::fprintf(stderr, "bench_opcua_server: %s\n", text.c_str());
+}
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// --- server processes ---------------------------------------------------------------
+
+// CPU time (user + system) process `pid` used so far, in seconds.
+double cpu_seconds_of(pid_t pid) {
+  std::ifstream stat(fmt::format("/proc/{}/stat", pid));
+  std::string text;
+  std::getline(stat, text);
+  // The fields after the command name (in parentheses, may hold spaces): state is field 3,
+  // utime 14 and stime 15, in clock ticks.
+  const auto close = text.rfind(')');
+  if (close == std::string::npos || close + 2 >= text.size()) {
+    return 0;
+  }
+  std::istringstream fields(text.substr(close + 2));
+  std::string field;
+  double ticks = 0;
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i >= 14) {
+      ticks += std::stod(field);
+    }
+  }
+  return ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+// A server as a child process. Ready once it prints its port on stdout: node_server.mjs prints
+// "READY <port>", `smartfactory opcua server` prints "listening on opc.tcp://<host>:<port>".
+class ServerProcess {
+ public:
+  explicit ServerProcess(std::string name) : name_(std::move(name)) {}
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
+  ~ServerProcess() { stop(); }
+
+  bool start(const std::vector<std::string>& args, const fs::path& cwd, bool verbose,
+             std::chrono::seconds timeout) {
+    int in[2] = {-1, -1};
+    int out[2] = {-1, -1};
+    if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0) {
+      return false;
+    }
+    std::vector<char*> argv;
+    for (const auto& a : args) {
+      argv.push_back(const_cast<char*>(a.c_str()));  // NOLINT: posix_spawn's signature
+    }
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, in[0], STDIN_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+    if (!verbose) {
+      posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+    }
+    posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+    const int rc = ::posix_spawnp(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(in[0]);
+    ::close(out[1]);
+    stdin_ = in[1];
+    stdout_ = out[0];
+    if (rc != 0) {
+      pid_ = -1;
+      return false;
+    }
+    return wait_ready(timeout);
+  }
+
+  // Closes stdin (node_server.mjs exits then) and sends SIGTERM; SIGKILL after 10 s.
+  void stop() {
+    if (pid_ > 0) {
+      resume();
+      if (stdin_ >= 0) {
+        ::close(stdin_);
+        stdin_ = -1;
+      }
+      ::kill(pid_, SIGTERM);
+      if (!wait_exit(10s)) {
+        ::kill(pid_, SIGKILL);
+        wait_exit(10s);
+      }
+    }
+    for (int* fd : {&stdin_, &stdout_}) {
+      if (*fd >= 0) {
+        ::close(*fd);
+        *fd = -1;
+      }
+    }
+  }
+
+  // SIGSTOP / SIGCONT: the server takes no CPU while the other one is measured.
+  void pause() {
+    if (pid_ > 0 && !paused_) {
+      ::kill(pid_, SIGSTOP);
+      paused_ = true;
+    }
+  }
+  void resume() {
+    if (pid_ > 0 && paused_) {
+      ::kill(pid_, SIGCONT);
+      paused_ = false;
+    }
+  }
+
+  // VmRSS in bytes (0 when unknown).
+  [[nodiscard]] std::uint64_t rss() const {
+    std::ifstream status(fmt::format("/proc/{}/status", pid_));
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("VmRSS:", 0) == 0) {
+        return std::stoull(line.substr(6)) * 1024;
+      }
+    }
+    return 0;
+  }
+
+  [[nodiscard]] double cpu_seconds() const { return cpu_seconds_of(pid_); }
+
+  [[nodiscard]] bool running() const { return pid_ > 0 && ::kill(pid_, 0) == 0; }
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] std::string url() const { return fmt::format("opc.tcp://127.0.0.1:{}", port_); }
+
+ private:
+  bool wait_ready(std::chrono::seconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    std::string buffer;
+    while (Clock::now() < deadline) {
+      pollfd p{stdout_, POLLIN, 0};
+      if (::poll(&p, 1, 200) <= 0) {
+        continue;
+      }
+      char chunk[256];
+      const ssize_t n = ::read(stdout_, chunk, sizeof chunk);
+      if (n <= 0) {
+        return false;  // the process ended before it was ready
+      }
+      buffer.append(chunk, static_cast<std::size_t>(n));
+      const auto eol = buffer.find('\n');
+      if (eol == std::string::npos) {
+        continue;
+      }
+      const std::string line = buffer.substr(0, eol);
+      const auto ready = line.find("READY ");
+      const auto listening = line.find("listening on ");
+      const auto colon = line.rfind(':');
+      if (ready != std::string::npos) {
+        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
+      } else if (listening != std::string::npos && colon != std::string::npos) {
+        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
+      }
+      return port_ != 0;
+    }
+    return false;
+  }
+
+  bool wait_exit(std::chrono::seconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (::waitpid(pid_, nullptr, WNOHANG) == 0) {
+      if (Clock::now() >= deadline) {
+        return false;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    pid_ = -1;
+    return true;
+  }
+
+  std::string name_;
+  pid_t pid_ = -1;
+  int stdin_ = -1;
+  int stdout_ = -1;
+  std::uint16_t port_ = 0;
+  bool paused_ = false;
+};
+
+// --- measurements -------------------------------------------------------------------
+
+ua::ClientConfig client_config(const std::string& url, const std::string& name) {
+  ua::ClientConfig config;
+  config.endpoint_url = url;
+  config.session_name = name;
+  config.auto_reconnect = false;
+  config.request_timeout = 20s;
+  return config;
+}
+
+std::vector<ua::ReadValueId> bench_values(std::uint16_t ns, std::size_t first, std::size_t count) {
+  std::vector<ua::ReadValueId> items;
+  for (std::size_t i = first; i < first + count; ++i) {
+    items.push_back(ua::value_of(ua::NodeId(ns, ua::String(fmt::format("Demo.Bench.{}", i)))));
+  }
+  return items;
+}
+
+// A connected client with the index of the demo namespace.
+struct Connection {
+  std::unique_ptr<ua::SyncClient> client;
+  std::uint16_t ns = 0;
+};
+
+std::optional<Connection> connect(const ServerProcess& server, const std::string& name) {
+  Connection c;
+  c.client = std::make_unique<ua::SyncClient>(client_config(server.url(), name));
+  if (auto st = c.client->connect(); !st) {
+    progress(fmt::format("{}: cannot connect: {}", server.name(), st.error().message));
+    return std::nullopt;
+  }
+  auto ns = c.client->namespace_index(kDemoNamespace);
+  if (!ns) {
+    progress(fmt::format("{}: no demo namespace: {}", server.name(), ns.error().message));
+    return std::nullopt;
+  }
+  c.ns = *ns;
+  return c;
+}
+
+struct ReadResult {
+  double values_per_s = 0;
+  double cpu_percent = 0;         // the server's, of one core
+  double client_cpu_percent = 0;  // this process's (the client's loop thread), of one core
+  std::uint64_t requests = 0;
+  std::uint64_t bad = 0;  // failed requests or values with a Bad status
+};
+
+// `depth` ReadRequests of `per_request` values outstanding for `seconds`; values whose response
+// arrived within the window count.
+ReadResult measure_reads(const ServerProcess& server, ua::Client& client, std::vector<ua::ReadValueId> items,
+                         std::size_t depth, double seconds) {
+  struct State {
+    ua::Client* client = nullptr;
+    std::vector<ua::ReadValueId> items;
+    Clock::time_point end;
+    std::uint64_t values = 0;
+    std::uint64_t requests = 0;
+    std::uint64_t bad = 0;
+    std::size_t outstanding = 0;
+    std::promise<void> finished;
+    std::function<void()> issue;
+  };
+  auto state = std::make_shared<State>();
+  state->client = &client;
+  state->items = std::move(items);
+  state->issue = [s = state.get()] {
+    ++s->outstanding;
+    s->client->read(s->items, [s](sf::Result<std::vector<ua::DataValue>> values) {
+      --s->outstanding;
+      if (Clock::now() <= s->end) {
+        ++s->requests;
+        if (!values) {
+          ++s->bad;
+        } else {
+          for (const auto& v : *values) {
+            (v.status.is_bad() ? s->bad : s->values) += 1;
+          }
+        }
+        s->issue();
+      } else if (s->outstanding == 0) {
+        s->finished.set_value();
+      }
+    });
+  };
+  auto finished = state->finished.get_future();
+  const double cpu = server.cpu_seconds();
+  const double client_cpu = cpu_seconds_of(::getpid());
+  const auto start = Clock::now();
+  state->end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  for (std::size_t i = 0; i < depth; ++i) {
+    state->issue();  // Client::read posts to the client's loop
+  }
+  finished.wait();
+  ReadResult r;
+  r.cpu_percent = 100.0 * (server.cpu_seconds() - cpu) / seconds_since(start);
+  r.client_cpu_percent = 100.0 * (cpu_seconds_of(::getpid()) - client_cpu) / seconds_since(start);
+  r.values_per_s = static_cast<double>(state->values) / seconds;
+  r.requests = state->requests;
+  r.bad = state->bad;
+  state->issue = nullptr;
+  return r;
+}
+
+struct NotifyResult {
+  double per_s = 0;
+  std::size_t items = 0;  // monitored items created
+  std::uint64_t loaded_rss = 0;
+  double cpu_percent = 0;  // the server's, of one core
+};
+
+// One subscription with `variables` monitored items; notifications/s after a 1.5 s warm-up.
+// One subscription (publishing 100 ms) with a monitored item (sampling 100 ms, queue 1) on each
+// of the first `variables` Bench variables, counting the notifications that arrive.
+struct Subscribed {
+  std::optional<ua::SyncClient::SubscriptionId> id;
+  std::size_t items = 0;  // monitored items created
+  std::shared_ptr<std::atomic<std::uint64_t>> received = std::make_shared<std::atomic<std::uint64_t>>(0);
+};
+
+Subscribed subscribe(Connection& c, const ServerProcess& server, std::size_t variables) {
+  Subscribed s;
+  ua::SyncClient::SubscriptionParams params;
+  params.publishing_interval_ms = 100;
+  params.max_keep_alive_count = 10;
+  params.lifetime_count = 100;
+  auto sub = c.client->create_subscription(params);
+  if (!sub) {
+    progress(fmt::format("{}: CreateSubscription: {}", server.name(), sub.error().message));
+    return s;
+  }
+  s.id = *sub;
+  ua::MonitoringParameters parameters;
+  parameters.sampling_interval = 100;
+  parameters.queue_size = 1;
+  parameters.discard_oldest = true;
+  // Created 50 at a time (one item per CreateMonitoredItems request, as the client sends them).
+  std::atomic<std::size_t> created{0};
+  std::atomic<std::size_t> answered{0};
+  const auto items = bench_values(c.ns, 0, variables);
+  ua::Client& client = c.client->client();
+  std::size_t next = 0;
+  while (next < items.size()) {
+    const std::size_t batch_end = std::min(items.size(), next + 50);
+    for (; next < batch_end; ++next) {
+      client.monitor_value(
+          *sub, items[next], parameters,
+          [received = s.received](const ua::DataValue&) { received->fetch_add(1); },
+          [&](const sf::Result<std::uint32_t>& handle) {
+            if (handle) {
+              created.fetch_add(1);
+            }
+            answered.fetch_add(1);
+          });
+    }
+    while (answered.load() < next) {
+      std::this_thread::sleep_for(1ms);
+    }
+  }
+  s.items = created.load();
+  return s;
+}
+
+// Notifications/s of one subscription with `variables` items, after a 1.5 s warm-up.
+NotifyResult measure_notifications(Connection& c, const ServerProcess& server, std::size_t variables,
+                                   double seconds) {
+  NotifyResult r;
+  const Subscribed sub = subscribe(c, server, variables);
+  if (!sub.id) {
+    return r;
+  }
+  const auto& received = sub.received;
+  r.items = sub.items;
+  std::this_thread::sleep_for(1500ms);
+  const std::uint64_t first = received->load();
+  const double cpu = server.cpu_seconds();
+  const auto start = Clock::now();
+  while (seconds_since(start) < seconds) {
+    std::this_thread::sleep_for(100ms);
+    r.loaded_rss = std::max(r.loaded_rss, server.rss());
+  }
+  const double elapsed = seconds_since(start);
+  r.cpu_percent = 100.0 * (server.cpu_seconds() - cpu) / elapsed;
+  r.per_s = static_cast<double>(received->load() - first) / elapsed;
+  (void)c.client->delete_subscription(*sub.id);
+  return r;
+}
+
+struct SessionsResult {
+  std::size_t held = 0;
+  double open_seconds = 0;
+  std::uint64_t rss = 0;
+  std::string first_error;
+};
+
+// Opens up to `cap` clients (each its own connection, channel and session), `window` at a time,
+// on one loop; counts the ones still connected a second after the last one opened.
+SessionsResult measure_sessions(const ServerProcess& server, std::size_t cap, std::size_t window) {
+  SessionsResult r;
+  sf::net::LoopThread thread;
+  std::vector<std::unique_ptr<ua::Client>> clients;
+  std::promise<void> all_tried;
+  auto tried = all_tried.get_future();
+  std::size_t started = 0;
+  std::size_t done = 0;
+  std::function<void()> open_next;
+  open_next = [&] {
+    if (started == cap) {
+      return;
+    }
+    auto& client = clients.emplace_back(std::make_unique<ua::Client>(
+        thread.loop(), client_config(server.url(), fmt::format("bench session {}", started))));
+    ++started;
+    client->connect([&](const sf::Status& st) {
+      if (!st && r.first_error.empty()) {
+        r.first_error = st.error().message;
+      }
+      if (++done == cap) {
+        all_tried.set_value();
+      } else {
+        open_next();
+      }
+    });
+  };
+  const auto start = Clock::now();
+  thread.run_sync([&] {
+    clients.reserve(cap);
+    for (std::size_t i = 0; i < std::min(window, cap); ++i) {
+      open_next();
+    }
+  });
+  tried.wait();
+  r.open_seconds = seconds_since(start);
+  std::this_thread::sleep_for(1s);
+  thread.run_sync([&] {
+    r.held = static_cast<std::size_t>(std::count_if(clients.begin(), clients.end(), [](const auto& c) {
+      return c->state() == ua::ClientState::Connected;
+    }));
+  });
+  r.rss = server.rss();
+  // CloseSession on every one, then the clients go (on the loop thread).
+  std::promise<void> all_closed;
+  auto closed = all_closed.get_future();
+  std::size_t closing = clients.size();
+  thread.run_sync([&] {
+    for (auto& client : clients) {
+      client->disconnect([&] {
+        if (--closing == 0) {
+          all_closed.set_value();
+        }
+      });
+    }
+  });
+  closed.wait_for(30s);
+  thread.run_sync([&] { clients.clear(); });
+  return r;
+}
+
+// --- the run ------------------------------------------------------------------------
+
+struct Metric {
+  std::string key;
+  std::string label;
+  std::string unit;
+  bool higher_is_better = true;
+  double ours = 0;
+  double node = 0;
+};
+
+struct Figures {
+  ReadResult read1;
+  ReadResult read100;
+  NotifyResult notify;
+  SessionsResult sessions;
+  std::uint64_t idle_rss = 0;
+};
+
+// Every measurement against one server, the other one stopped meanwhile.
+struct Pair {
+  ServerProcess* ours;
+  ServerProcess* node;
+  template <typename F>
+  void each(F&& measure) {
+    node->pause();
+    measure(*ours, true);
+    node->resume();
+    ours->pause();
+    measure(*node, false);
+    ours->resume();
+  }
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string node_opcua_version(const fs::path& source_dir) {
+  try {
+    const auto j =
+        nlohmann::json::parse(read_text(source_dir / "node_modules" / "node-opcua" / "package.json"));
+    return j.value("version", "?");
+  } catch (const std::exception&) {
+    return "?";
+  }
+}
+
+std::string format_value(double v, const std::string& unit) {
+  if (unit == "MiB") {
+    return fmt::format("{:.1f}", v);
+  }
+  if (unit == "s") {
+    return fmt::format("{:.2f}", v);
+  }
+  if (unit == "%" || unit == "% core") {
+    return fmt::format("{:.1f}", v);
+  }
+  return fmt::format("{:.0f}", v);
+}
+
+int run(const Options& o) {
+  const std::string node_version = node_opcua_version(o.source_dir);
+  ServerProcess ours("ours");
+  ServerProcess node("node-opcua");
+  progress(fmt::format("starting our server ({})", o.smartfactory.string()));
+  const std::string vars = std::to_string(o.variables);
+  const std::string sessions = std::to_string(o.sessions);
+  if (!ours.start({o.smartfactory.string(), "--log-level", "warn", "opcua", "server", "--host", "127.0.0.1",
+                   "--advertised-host", "127.0.0.1", "--port", "0", "--demo-model", "--bench-variables", vars,
+                   "--max-sessions", sessions, "--status-interval", "0"},
+                  o.source_dir, o.verbose, 30s)) {
+    progress("our server did not start");
+    return 1;
+  }
+  progress(fmt::format("starting node-opcua {}", node_version));
+  if (!node.start({"node", (o.source_dir / "tests" / "peers" / "opcua" / "node_server.mjs").string(), "0",
+                   "--variables", vars, "--max-sessions", sessions},
+                  o.source_dir, o.verbose, 120s)) {
+    progress("the node-opcua server did not start (node on PATH? npm ci?)");
+    return 1;
+  }
+  std::this_thread::sleep_for(2s);  // both settle: model loaded, timers running
+
+  Figures f_ours;
+  Figures f_node;
+  Pair pair{&ours, &node};
+  auto figures = [&](bool is_ours) -> Figures& { return is_ours ? f_ours : f_node; };
+
+  // Idle RSS, each with the other one stopped.
+  pair.each([&](ServerProcess& server, bool is_ours) {
+    std::this_thread::sleep_for(500ms);
+    figures(is_ours).idle_rss = server.rss();
+  });
+
+  const auto phase = [&o](std::string_view name) { return o.only.empty() || o.only == name; };
+  const double read_s = o.quick ? 1.0 : o.read_seconds;
+  if (phase("reads")) {
+    pair.each([&](ServerProcess& server, bool is_ours) {
+      progress(fmt::format("{}: reads, {} s per size, {} outstanding", server.name(), read_s, o.depth));
+      auto c = connect(server, "bench reads");
+      if (!c) {
+        return;
+      }
+      // Optionally, a subscription on another session keeps the server busy meanwhile.
+      std::optional<Connection> other;
+      if (o.read_with_items > 0 && (other = connect(server, "bench background subscription"))) {
+        progress(fmt::format("{}: {} items monitored during the reads: {}", server.name(), o.read_with_items,
+                             subscribe(*other, server, o.read_with_items).items));
+      }
+      // A warm-up of each size (node's JIT, both servers' buffers), then the measured runs.
+      auto& client = c->client->client();
+      for (const std::size_t n : {std::size_t{1}, std::size_t{100}}) {
+        (void)measure_reads(server, client, bench_values(c->ns, 0, n), o.depth, 0.5);
+      }
+      figures(is_ours).read1 = measure_reads(server, client, bench_values(c->ns, 0, 1), o.depth, read_s);
+      figures(is_ours).read100 = measure_reads(server, client, bench_values(c->ns, 0, 100), o.depth, read_s);
+      c->client->disconnect();
+      if (other) {
+        other->client->disconnect();
+      }
+    });
+  }
+
+  const double notify_s = o.quick ? 2.0 : o.notify_seconds;
+  if (phase("notify")) {
+    pair.each([&](ServerProcess& server, bool is_ours) {
+      progress(fmt::format("{}: data changes of {} items for {} s", server.name(), o.variables, notify_s));
+      auto c = connect(server, "bench data changes");
+      if (!c) {
+        return;
+      }
+      figures(is_ours).notify = measure_notifications(*c, server, o.variables, notify_s);
+      c->client->disconnect();
+    });
+  }
+
+  const std::size_t cap = o.quick ? std::min<std::size_t>(o.sessions, 50) : o.sessions;
+  if (phase("sessions")) {
+    pair.each([&](ServerProcess& server, bool is_ours) {
+      progress(fmt::format("{}: opening {} sessions", server.name(), cap));
+      figures(is_ours).sessions = measure_sessions(server, cap, 16);
+      if (!figures(is_ours).sessions.first_error.empty()) {
+        progress(fmt::format("{}: first failed session: {}", server.name(),
+                             figures(is_ours).sessions.first_error));
+      }
+    });
+  }
+  const bool both_alive = ours.running() && node.running();
+  ours.stop();
+  node.stop();
+
+  constexpr double kMiB = 1024.0 * 1024.0;
+  const double theoretical = static_cast<double>(o.variables) * 10.0;  // a change every 100 ms
+  std::vector<Metric> metrics = {
+      {"read_1_values_per_s", "Read, 1 value per request", "values/s", true, f_ours.read1.values_per_s,
+       f_node.read1.values_per_s},
+      {"read_1_cpu_percent", "  server CPU", "% core", false, f_ours.read1.cpu_percent,
+       f_node.read1.cpu_percent},
+      {"read_1_client_cpu_percent", "  client CPU (this process)", "% core", false,
+       f_ours.read1.client_cpu_percent, f_node.read1.client_cpu_percent},
+      {"read_100_values_per_s", "Read, 100 values per request", "values/s", true, f_ours.read100.values_per_s,
+       f_node.read100.values_per_s},
+      {"read_100_cpu_percent", "  server CPU", "% core", false, f_ours.read100.cpu_percent,
+       f_node.read100.cpu_percent},
+      {"read_100_client_cpu_percent", "  client CPU (this process)", "% core", false,
+       f_ours.read100.client_cpu_percent, f_node.read100.client_cpu_percent},
+      {"notifications_per_s", fmt::format("Data changes, {} items at 100 ms", o.variables), "notif./s", true,
+       f_ours.notify.per_s, f_node.notify.per_s},
+      {"notifications_percent", fmt::format("  of the {:.0f}/s produced", theoretical), "%", true,
+       100.0 * f_ours.notify.per_s / theoretical, 100.0 * f_node.notify.per_s / theoretical},
+      {"notifications_cpu_percent", "  server CPU", "% core", false, f_ours.notify.cpu_percent,
+       f_node.notify.cpu_percent},
+      {"sessions_held", fmt::format("Sessions held (of {})", cap), "sessions", true,
+       static_cast<double>(f_ours.sessions.held), static_cast<double>(f_node.sessions.held)},
+      {"sessions_open_s", "  time to open them", "s", false, f_ours.sessions.open_seconds,
+       f_node.sessions.open_seconds},
+      {"rss_idle_mib", "RSS idle", "MiB", false, static_cast<double>(f_ours.idle_rss) / kMiB,
+       static_cast<double>(f_node.idle_rss) / kMiB},
+      {"rss_notifications_mib", "RSS loaded (data changes)", "MiB", false,
+       static_cast<double>(f_ours.notify.loaded_rss) / kMiB,
+       static_cast<double>(f_node.notify.loaded_rss) / kMiB},
+      {"rss_sessions_mib", "RSS with the sessions held", "MiB", false,
+       static_cast<double>(f_ours.sessions.rss) / kMiB, static_cast<double>(f_node.sessions.rss) / kMiB},
+  };
+  // Phases left out with --only have nothing to show.
+  std::erase_if(metrics, [](const Metric& m) { return m.ours == 0 && m.node == 0; });
+  // No ratio when node-opcua's figure is 0 (e.g. CPU below the clock tick).
+  auto ratio = [](const Metric& m) {
+    return m.node > 0 ? std::optional<double>(m.ours / m.node) : std::nullopt;
+  };
+
+  std::string load;
+  std::getline(std::ifstream("/proc/loadavg") >> std::ws, load);
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (o.json) {
+    nlohmann::json out;
+    out["peer"] = "node-opcua " + node_version;
+    out["cores"] = cores;
+    out["loadavg"] = load;
+    out["quick"] = o.quick;
+    out["settings"] = {{"variables", o.variables},      {"read_with_monitored_items", o.read_with_items},
+                       {"read_seconds", read_s},        {"read_outstanding", o.depth},
+                       {"notify_seconds", notify_s},    {"sessions_cap", cap},
+                       {"sessions_opened_at_once", 16}, {"publishing_interval_ms", 100},
+                       {"sampling_interval_ms", 100}};
+    for (const auto& m : metrics) {
+      out["metrics"][m.key] = {{"unit", m.unit},
+                               {"ours", m.ours},
+                               {"node_opcua", m.node},
+                               {"ratio", ratio(m) ? nlohmann::json(*ratio(m)) : nlohmann::json()},
+                               {"higher_is_better", m.higher_is_better}};
+    }
+    out["read_requests"] = {{"ours", f_ours.read1.requests + f_ours.read100.requests},
+                            {"node_opcua", f_node.read1.requests + f_node.read100.requests}};
+    out["bad_reads"] = {{"ours", f_ours.read1.bad + f_ours.read100.bad},
+                        {"node_opcua", f_node.read1.bad + f_node.read100.bad}};
+    out["monitored_items_created"] = {{"ours", f_ours.notify.items}, {"node_opcua", f_node.notify.items}};
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    std::printf("OPC UA server: ours (smartfactory opcua server) vs node-opcua %s, same run, same client\n",
+                node_version.c_str());
+    std::printf(
+        "%u cores, load average %s; reads %.0f s with %zu outstanding (%zu items monitored meanwhile); "
+        "data changes %.0f s\n",
+        cores, load.c_str(), read_s, o.depth, o.read_with_items, notify_s);
+    std::printf("%-36s %-9s %12s %12s %8s\n", "metric", "unit", "ours", "node-opcua", "ratio");
+    for (const auto& m : metrics) {
+      const auto r = ratio(m);
+      std::printf("%-36s %-9s %12s %12s %8s%s\n", m.label.c_str(), m.unit.c_str(),
+                  format_value(m.ours, m.unit).c_str(), format_value(m.node, m.unit).c_str(),
+                  r ? fmt::format("{:.2f}x", *r).c_str() : "-",
+                  m.higher_is_better ? "" : " (lower is better)");
+    }
+    fmt::print("monitored items created: ours {}, node-opcua {}; bad reads: ours {}, node-opcua {}\n",
+               f_ours.notify.items, f_node.notify.items, f_ours.read1.bad + f_ours.read100.bad,
+               f_node.read1.bad + f_node.read100.bad);
+  }
+  if (!both_alive) {
+    progress("a server died during the run");
+    return 1;
+  }
+  return 0;
+}
+
+fs::path self_dir() {
+  std::error_code ec;
+  const auto exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::current_path() : exe.parent_path();
+}
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: bench_opcua_server [--quick] [--json] [--verbose] [--sessions N] [--variables N]\n"
+               "                          [--depth N] [--read-seconds S] [--notify-seconds S]\n"
+               "                          [--read-with-items N]\n"
+               "                          [--only reads|notify|sessions] [--smartfactory PATH]\n"
+               "                          [--source-dir DIR]\n"
+               "Our OPC UA server next to node-opcua in the same run (see the top of the source).\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  o.smartfactory = self_dir() / ".." / "apps" / "smartfactory" / "smartfactory";
+  const char* source = std::getenv("SF_SOURCE_DIR");
+  o.source_dir = source != nullptr ? fs::path(source) : fs::path(SF_BENCH_SOURCE_DIR);
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        usage();
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    try {
+      if (a == "--quick") {
+        o.quick = true;
+      } else if (a == "--json") {
+        o.json = true;
+      } else if (a == "--verbose") {
+        o.verbose = true;
+      } else if (a == "--sessions") {
+        o.sessions = std::stoul(value());
+      } else if (a == "--variables") {
+        o.variables = std::stoul(value());
+      } else if (a == "--depth") {
+        o.depth = std::max<std::size_t>(1, std::stoul(value()));
+      } else if (a == "--read-seconds") {
+        o.read_seconds = std::stod(value());
+      } else if (a == "--notify-seconds") {
+        o.notify_seconds = std::stod(value());
+      } else if (a == "--read-with-items") {
+        o.read_with_items = std::stoul(value());
+      } else if (a == "--only") {
+        o.only = value();
+      } else if (a == "--smartfactory") {
+        o.smartfactory = value();
+      } else if (a == "--source-dir") {
+        o.source_dir = value();
+      } else if (a.rfind("--benchmark_", 0) == 0) {
+        // scripts/bench passes its arguments to every benchmark; Google Benchmark's are not ours.
+      } else {
+        usage();
+        return a == "--help" || a == "-h" ? 0 : 2;
+      }
+    } catch (const std::exception&) {
+      usage();
+      return 2;
+    }
+  }
+  if (o.read_with_items > o.variables) {
+    std::fprintf(stderr, "bench_opcua_server: --read-with-items must not exceed --variables\n");
+    return 2;
+  }
+  if (o.variables < 100) {
+    std::fprintf(stderr, "bench_opcua_server: --variables must be at least 100 (a read of 100 values)\n");
+    return 2;
+  }
+  (void)sf::log::set_level("warn");
+  ::signal(SIGPIPE, SIG_IGN);
+  return run(o);
+}

@@ -59,6 +59,7 @@ struct ReasonOptions {
 
 std::vector<std::string> triple_lines(const kb::Reasoner& r, const std::vector<kb::TripleId>& ids) {
   std::vector<std::string> out;
+  out.reserve(ids.size());
   for (kb::TripleId id : ids) {
     out.push_back(kb::format_triple(r.dictionary(), r.store().at(id)));
   }
@@ -121,6 +122,7 @@ Status print_text(const kb::Reasoner& r, const ReasonOptions& o) {
     }
   } else {
     std::vector<kb::Triple> triples;
+    triples.reserve(inferred.size());
     for (kb::TripleId id : inferred) {
       triples.push_back(r.store().at(id));
     }

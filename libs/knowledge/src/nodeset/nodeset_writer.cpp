@@ -204,7 +204,7 @@ class Writer {
   }
 
   // A variable under parent: a data variable (HasComponent) for live values, else a property.
-  pugi::xml_node variable(std::uint32_t parent, const OntologyProperty& p, std::string data_type,
+  pugi::xml_node variable(std::uint32_t parent, const OntologyProperty& p, const std::string& data_type,
                           bool declaration) {
     const std::uint32_t id = next_++;
     auto v = node("UAVariable", id, p.name, p.label, declaration ? p.comment : std::string());

@@ -74,7 +74,7 @@ struct ReadState {
   }
 
   // Expands a URI or CURIE node to an absolute IRI; empty on failure.
-  std::string expand(const SerdNode* n) {
+  std::string expand(const SerdNode* n) const {
     OwnedNode full;
     full.node = serd_env_expand_node(env, n);
     return std::string(view(&full.node));

@@ -137,7 +137,7 @@ std::optional<std::size_t> parse_time_part(std::string_view s, std::size_t pos, 
   if ((h > 23 && !end_of_day) || m > 59 || sec > 59) {
     return std::nullopt;
   }
-  t.seconds += static_cast<std::int64_t>(h) * 3600 + m * 60 + sec;
+  t.seconds += static_cast<std::int64_t>(h) * 3600 + static_cast<std::int64_t>(m) * 60 + sec;
   t.nanos = nanos;
   return pos;
 }
@@ -157,7 +157,7 @@ bool parse_zone(std::string_view s, std::size_t pos, Instant& t) {
       s[pos + 3] != ':' || fixed_digits(s, pos + 4, 2, m) != 0 || h > 14 || m > 59) {
     return false;
   }
-  const std::int64_t offset = static_cast<std::int64_t>(h) * 3600 + m * 60;
+  const std::int64_t offset = static_cast<std::int64_t>(h) * 3600 + static_cast<std::int64_t>(m) * 60;
   t.seconds -= s[pos] == '+' ? offset : -offset;
   t.zoned = true;
   return true;

@@ -5,6 +5,9 @@
 //               INSERT statements, into a database with our schema
 //   PostgreSQL  psql \copy of a CSV into our (partitioned) samples table,
 //               on the same throwaway server (initdb'd by this program)
+//   buffer      store-and-forward: the same rows into the buffer while the
+//               database is away, then forwarded into SQLite, next to the
+//               direct SQLite ingest above
 // Usage: bench_historian_ingest [SAMPLES] [BATCH]   (defaults 200000, 1000)
 #include <unistd.h>
 
@@ -19,6 +22,7 @@
 
 #include "pg_server.hpp"
 #include "sf/core/clock.hpp"
+#include "sf/historian/buffered_store.hpp"
 #include "sf/historian/store.hpp"
 
 namespace {
@@ -128,7 +132,8 @@ void prepare_peer(const std::string& url, const Rows& rows) {
   (void)store->append(std::span{&probe, 1});
 }
 
-void bench_sqlite(const Rows& rows, std::size_t batch, const fs::path& dir) {
+// Returns the time of the direct ingest, the peer of the buffer's figures.
+double bench_sqlite(const Rows& rows, std::size_t batch, const fs::path& dir) {
   const auto db = dir / "ours.db";
   const double ours_s = ours("sqlite:" + db.string(), rows, batch);
 
@@ -156,6 +161,47 @@ void bench_sqlite(const Rows& rows, std::size_t batch, const fs::path& dir) {
 
   report("SQLite", rows.samples.size(), ours_s, "sqlite3 .import (1 tx)", import_s);
   report("SQLite", rows.samples.size(), ours_s, "sqlite3 INSERTs in 1 tx", insert_s);
+  return ours_s;
+}
+
+// BufferedStore while the database is away (every batch into the segment
+// log, fdatasync each), then forwarding it all into SQLite when it is back.
+void bench_buffer(const Rows& rows, std::size_t batch, const fs::path& dir, double direct_s) {
+  bool up = false;
+  const auto url = "sqlite:" + (dir / "forwarded.db").string();
+  auto store = hist::BufferedStore::open(
+      [&]() -> sf::Result<std::unique_ptr<hist::Store>> {
+        if (!up) {
+          return sf::make_error(sf::Errc::io, "away (benchmark)");
+        }
+        return hist::open_store(url);
+      },
+      hist::BufferOptions{.directory = dir / "buffer"}, sf::SteadyClock::instance());
+  if (!store) {
+    std::cerr << store.error().describe() << "\n";
+    std::exit(1);
+  }
+  for (const auto& s : rows.series) {
+    (void)(*store)->register_series(s);
+  }
+  auto start = sf::SteadyClock::instance().now();
+  for (std::size_t i = 0; i < rows.samples.size(); i += batch) {
+    const auto n = std::min(batch, rows.samples.size() - i);
+    if (auto st = (*store)->append(std::span{rows.samples}.subspan(i, n)); !st) {
+      std::cerr << "buffer: " << st.error().describe() << "\n";
+      std::exit(1);
+    }
+  }
+  const double buffer_s = seconds_since(start);
+  up = true;
+  start = sf::SteadyClock::instance().now();
+  if (auto st = (*store)->flush(); !st) {
+    std::cerr << "forward: " << st.error().describe() << "\n";
+    std::exit(1);
+  }
+  const double forward_s = seconds_since(start);
+  report("buffer", rows.samples.size(), buffer_s, "direct into SQLite (above)", direct_s);
+  report("forward", rows.samples.size(), forward_s, "direct into SQLite (above)", direct_s);
 }
 
 void bench_postgres(const Rows& rows, std::size_t batch, const fs::path& dir) {
@@ -194,7 +240,8 @@ int main(int argc, char** argv) {
   std::cout << fmt::format(
       "historian ingest: {} float64 samples over {} series, Store::append in batches of {}\n", n, kSeries,
       batch);
-  bench_sqlite(rows, batch, dir);
+  const double direct_s = bench_sqlite(rows, batch, dir);
+  bench_buffer(rows, batch, dir, direct_s);
   bench_postgres(rows, batch, dir);
   std::error_code ec;
   fs::remove_all(dir, ec);

@@ -16,9 +16,7 @@ namespace sf::app {
 namespace {
 
 namespace hist = sf::historian;
-using history_cli::add_db_option;
 using history_cli::fail;
-using history_cli::kTimeHelp;
 using history_cli::now;
 using history_cli::open_db;
 using nlohmann::json;

@@ -109,6 +109,18 @@ TEST_F(BufferedStoreTest, AnOutageIsBufferedAndForwardedInOrder) {
   EXPECT_EQ(store_->stats().buffered_records, 0U) << "straight through again";
 }
 
+TEST_F(BufferedStoreTest, EventsAreBufferedAndForwardedToo) {
+  const Event e{.server = "opc.tcp://m1:4840", .event_id = Bytes{7}, .time = kT0, .message = "door open"};
+  up_ = false;
+  ASSERT_TRUE(store_->append_events(std::vector{e}).ok());
+  EXPECT_EQ(store_->stats().buffered_records, 1U);
+  up_ = true;
+  ASSERT_TRUE(store_->flush().ok());
+  auto db = open_store("sqlite:" + (dir_.path() / db_name_).string());
+  ASSERT_TRUE(db.ok());
+  EXPECT_EQ((*db)->read_events(EventQuery{.from = kT0, .to = kT0 + 1s}).value_or({}), std::vector{e});
+}
+
 TEST_F(BufferedStoreTest, RetriesBackOffExponentially) {
   const auto id = series("ns=2;s=A");
   up_ = false;

@@ -27,6 +27,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// strerror() is not thread-safe; the error category's message is.
+std::string errno_text() {
+  return std::generic_category().message(errno);
+}
+
 // A port the kernel considers free right now (bind to 0, read it back).
 int free_port() {
   const int s = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -66,6 +71,7 @@ std::vector<std::string> as_user(std::vector<std::string> argv, bool switch_user
 // fork + exec with stdout/stderr into `log`. The child gets SIGQUIT when we die.
 pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const auto& a : argv) {
     args.push_back(const_cast<char*>(a.c_str()));
   }
@@ -92,7 +98,8 @@ int wait_for(pid_t pid) {
 }  // namespace
 
 std::optional<fs::path> PgServer::find_bin_dir() {
-  if (const char* env = std::getenv("SF_PG_BIN"); env != nullptr && fs::exists(fs::path{env} / "initdb")) {
+  const char* env = std::getenv("SF_PG_BIN");  // NOLINT(concurrency-mt-unsafe): read once at start
+  if (env != nullptr && fs::exists(fs::path{env} / "initdb")) {
     return fs::path{env};
   }
   std::error_code ec;
@@ -114,7 +121,7 @@ Result<std::string> PgServer::run_tool(const std::vector<std::string>& argv, boo
   fs::remove(log);
   const pid_t pid = spawn(as_user(argv, as_server_user && as_postgres_, false), log);
   if (pid < 0) {
-    return make_error(Errc::io, fmt::format("fork: {}", std::strerror(errno)));
+    return make_error(Errc::io, fmt::format("fork: {}", errno_text()));
   }
   const int rc = wait_for(pid);
   auto output = read_text(log);
@@ -137,18 +144,18 @@ Result<std::unique_ptr<PgServer>> PgServer::start(PgServerOptions options) {
   server->options_ = options;
   char tmpl[] = "/tmp/sf-pg-XXXXXX";
   if (::mkdtemp(tmpl) == nullptr) {
-    return make_error(Errc::io, fmt::format("mkdtemp: {}", std::strerror(errno)));
+    return make_error(Errc::io, fmt::format("mkdtemp: {}", errno_text()));
   }
   server->dir_ = tmpl;
   if (::geteuid() == 0) {
-    const passwd* pw = ::getpwnam("postgres");
+    const passwd* pw = ::getpwnam("postgres");  // NOLINT(concurrency-mt-unsafe): once, at start
     if (pw == nullptr) {
       return make_error(Errc::not_found,
                         "running as root, and initdb refuses root: no 'postgres' user to run as");
     }
     server->as_postgres_ = true;
     if (::chown(tmpl, pw->pw_uid, pw->pw_gid) != 0) {
-      return make_error(Errc::io, fmt::format("chown {}: {}", tmpl, std::strerror(errno)));
+      return make_error(Errc::io, fmt::format("chown {}: {}", tmpl, errno_text()));
     }
   }
   auto init = server->run_tool({(*bin / "initdb").string(), "-D", (server->dir_ / "data").string(), "-U",
@@ -205,7 +212,7 @@ Status PgServer::launch() {
 
 PgServer::~PgServer() {
   (void)kill();
-  if (std::getenv("SF_KEEP_PG") != nullptr) {
+  if (std::getenv("SF_KEEP_PG") != nullptr) {  // NOLINT(concurrency-mt-unsafe)
     std::fprintf(stderr, "SF_KEEP_PG: PostgreSQL directory kept: %s\n", dir_.c_str());
     return;
   }

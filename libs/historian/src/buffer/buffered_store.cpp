@@ -12,20 +12,21 @@ namespace sf::historian {
 
 namespace {
 
-// Largest read from the buffer per forwarded batch.
-constexpr std::size_t kPeekBytes = 16U << 20U;
+// Bytes to read from the buffer for a batch of n samples: about what n
+// float samples take (41 bytes each), so a batch is read once, not again and
+// again with the rest of the backlog; larger samples make smaller batches.
+constexpr std::size_t peek_bytes(std::size_t samples) {
+  return samples * 41;
+}
 
 bool transient(const Error& e) {
   return e.code == Errc::io;
 }
 
-// The leading records that go to the database in one call: one series
-// record, or consecutive records of samples (events) up to `max_items`.
+// The leading records of one type that go to the database together, up to
+// `max_items` samples (events, series registrations).
 std::size_t group_size(std::span<const LogRecord> records, std::size_t max_items,
                        const std::vector<std::size_t>& items) {
-  if (records.front().type == RecordType::series) {
-    return 1;
-  }
   std::size_t n = 1;
   std::size_t total = items[0];
   while (n < records.size() && records[n].type == records.front().type && total + items[n] <= max_items) {
@@ -94,7 +95,7 @@ Result<std::unique_ptr<BufferedStore>> BufferedStore::open(std::string url, Buff
   if (auto parsed = detail::parse_store_url(url); !parsed) {
     return parsed.error();
   }
-  return open([url] { return open_store(url); }, std::move(options), clock);
+  return open([url = std::move(url)] { return open_store(url); }, std::move(options), clock);
 }
 
 Store* BufferedStore::database(bool ignore_backoff) {
@@ -231,7 +232,7 @@ Result<bool> BufferedStore::forward_batch(std::uint64_t& samples_sent) {
     return make_error(Errc::io, fmt::format("database unavailable ({} records buffered): {}",
                                             log_->pending_records(), stats_.last_error));
   }
-  auto records = log_->peek(kPeekBytes);
+  auto records = log_->peek(peek_bytes(options_.forward_batch));
   if (!records) {
     return records.error();
   }
@@ -273,12 +274,14 @@ Result<bool> BufferedStore::forward_batch(std::uint64_t& samples_sent) {
 Result<std::uint64_t> BufferedStore::send(Store& db, std::span<const LogRecord> group) {
   switch (group.front().type) {
     case RecordType::series: {
-      auto info = decode_series(group.front().payload);
-      if (!info) {
-        return info.error();
+      for (const auto& r : group) {
+        auto info = decode_series(r.payload);
+        if (!info) {
+          return info.error();
+        }
+        SF_TRY(db.register_series(*info));
       }
-      auto id = db.register_series(*info);
-      return id ? Result<std::uint64_t>{0} : Result<std::uint64_t>{id.error()};
+      return std::uint64_t{0};
     }
     case RecordType::samples: {
       auto decoded = decode_all(group, decode_samples);

@@ -25,7 +25,9 @@ constexpr std::uint32_t kCursorVersion = 1;
 constexpr std::size_t kCursorBytes = 28;
 
 Error sys_error(std::string_view what, const fs::path& path) {
-  return make_error(Errc::io, fmt::format("{} {}: {}", what, path.string(), std::strerror(errno)));
+  // (not strerror: it is not thread-safe)
+  return make_error(Errc::io,
+                    fmt::format("{} {}: {}", what, path.string(), std::generic_category().message(errno)));
 }
 
 class Fd {
@@ -468,7 +470,7 @@ Status SegmentLog::consume(std::span<const LogRecord> records) {
   return {};
 }
 
-Status SegmentLog::save_cursor() {
+Status SegmentLog::save_cursor() const {
   Bytes data;
   ByteWriter w(data);
   w.u32(kCursorMagic);
@@ -476,10 +478,13 @@ Status SegmentLog::save_cursor() {
   w.u64(cursor_.segment);
   w.u64(cursor_.offset);
   w.u32(crc32c(data));
-  return replace_file(options_.directory / "cursor", data, options_.fsync);
+  // Atomic (rename) but not synced: a cursor that falls back after a power
+  // cut only re-sends batches the database then skips (idempotent keys);
+  // syncing it would cost three fsyncs per forwarded batch.
+  return replace_file(options_.directory / "cursor", data, false);
 }
 
-Status SegmentLog::reject(std::span<const LogRecord> records) {
+Status SegmentLog::reject(std::span<const LogRecord> records) const {
   const auto path = options_.directory / "rejected.log";
   std::error_code ec;
   const bool fresh = !fs::exists(path, ec);

@@ -20,12 +20,21 @@ namespace sf::historian::postgres {
 
 namespace {
 
-const std::vector<std::string> kSampleColumns = {"series_id", "source_time", "seq",   "server_time",
-                                                 "status",    "vtype",       "v_int", "v_real",
-                                                 "v_text",    "v_blob"};
-const std::vector<std::string> kEventColumns = {"server",     "event_id",    "time",        "receive_time",
-                                                "event_type", "source_node", "source_name", "severity",
-                                                "message",    "fields"};
+// Column lists for COPY (function-local statics: built on first use).
+const std::vector<std::string>& sample_columns() {
+  static const std::vector<std::string> columns = {"series_id", "source_time", "seq",   "server_time",
+                                                   "status",    "vtype",       "v_int", "v_real",
+                                                   "v_text",    "v_blob"};
+  return columns;
+}
+
+const std::vector<std::string>& event_columns() {
+  static const std::vector<std::string> columns = {"server",     "event_id",    "time",        "receive_time",
+                                                   "event_type", "source_node", "source_name", "severity",
+                                                   "message",    "fields"};
+  return columns;
+}
+
 constexpr std::string_view kSampleRead =
     "source_time, seq, server_time, status, vtype, v_int, v_real, v_text, v_blob";
 constexpr std::string_view kEventRead =
@@ -133,7 +142,7 @@ class PgStore final : public Store {
   [[nodiscard]] std::string_view backend() const override { return "postgresql"; }
 
  private:
-  void on_connect(pqxx::connection& c) {
+  void on_connect(pqxx::connection& c) const {
     setup_session(c);
     if (schema_ready_) {
       prepare_statements(c);
@@ -290,7 +299,7 @@ Status PgStore::append(std::span<const Sample> samples) {
                            c.v_blob ? std::optional{bytea_text(*c.v_blob)} : std::nullopt);
   };
   return conn_.run(fmt::format("append {} samples", samples.size()), [&](pqxx::connection& c) {
-    with_partitions(c, sample_parts_, times, [&] { copy_in(c, "samples", kSampleColumns, samples, row); });
+    with_partitions(c, sample_parts_, times, [&] { copy_in(c, "samples", sample_columns(), samples, row); });
   });
 }
 
@@ -308,7 +317,7 @@ Status PgStore::append_events(std::span<const Event> events) {
                            e.event_type, e.source_node, e.source_name, int{e.severity}, e.message, e.fields);
   };
   return conn_.run(fmt::format("append {} events", events.size()), [&](pqxx::connection& c) {
-    with_partitions(c, event_parts_, times, [&] { copy_in(c, "events", kEventColumns, events, row); });
+    with_partitions(c, event_parts_, times, [&] { copy_in(c, "events", event_columns(), events, row); });
   });
 }
 

@@ -24,7 +24,8 @@ Error to_error(int rc, std::string_view what, std::string_view detail) {
       code = Errc::malformed;
       break;
     case SQLITE_CONSTRAINT:
-      code = Errc::invalid_argument;
+      // A sample of a series the database does not know: as PostgreSQL's 23503.
+      code = rc == SQLITE_CONSTRAINT_FOREIGNKEY ? Errc::not_found : Errc::invalid_argument;
       break;
     default:
       break;

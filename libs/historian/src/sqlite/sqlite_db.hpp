@@ -16,7 +16,7 @@
 namespace sf::historian::sqlite {
 
 // Busy/locked/I-O/full/cannot-open → io; corrupt/not-a-database → malformed;
-// constraint → invalid_argument; anything else → state.
+// foreign key → not_found; other constraints → invalid_argument; else state.
 Error to_error(int rc, std::string_view what, std::string_view detail);
 
 class Statement {

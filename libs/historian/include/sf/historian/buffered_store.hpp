@@ -45,7 +45,7 @@ struct BufferOptions {
   Clock::duration max_backoff = std::chrono::seconds{30};
   // Forwarding: samples per database transaction, and per poll() call (so a
   // long backlog does not hold writers off for long).
-  std::size_t forward_batch = 5000;
+  std::size_t forward_batch = 10'000;
   std::size_t forward_per_poll = 50'000;
 };
 

@@ -20,7 +20,8 @@
 //
 // Delivery is at-least-once: the cursor moves after the database confirmed a
 // batch, so a crash in between re-sends that batch, and the stores' idempotent
-// writes (see store.hpp) turn the re-send into a no-op.
+// writes (see store.hpp) turn the re-send into a no-op. For the same reason
+// the cursor is replaced atomically but not synced.
 #pragma once
 
 #include <compare>
@@ -83,7 +84,8 @@ SegmentScan scan_segment(ByteSpan file, std::size_t from = 0);
 struct LogPosition {
   std::uint64_t segment = 0;
   std::uint64_t offset = 0;
-  auto operator<=>(const LogPosition&) const = default;
+  // clang-tidy 14 reads the defaulted <=> as a comparison with literal 0.
+  auto operator<=>(const LogPosition&) const = default;  // NOLINT(modernize-use-nullptr)
 };
 
 struct LogRecord {
@@ -130,7 +132,7 @@ class SegmentLog {
   // the cursor and deletes segments left wholly behind it.
   Status consume(std::span<const LogRecord> records);
   // Keeps records the database refused in rejected.log (then consume them).
-  Status reject(std::span<const LogRecord> records);
+  Status reject(std::span<const LogRecord> records) const;
 
   [[nodiscard]] bool empty() const { return pending_records_ == 0; }
   [[nodiscard]] std::uint64_t pending_records() const { return pending_records_; }
@@ -147,7 +149,7 @@ class SegmentLog {
   Status start_segment(std::uint64_t number);
   Status rotate();
   Status load(std::uint64_t number);
-  Status save_cursor();
+  Status save_cursor() const;
   void note_bad(std::uint64_t segment, ByteSpan file, const BadRegion& bad);
   [[nodiscard]] std::filesystem::path segment_path(std::uint64_t number) const;
 

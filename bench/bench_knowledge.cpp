@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <random>
@@ -233,13 +234,19 @@ int main(int argc, char** argv) {
                            "upd ours", "upd Jena");
   for (std::size_t size : sizes) {
     const std::string data = fmt::format("{}/factory-{}.nt", dir, size);
-    {
+    // Generated in a child too, so that the parent (whose memory the children share) stays small.
+    const Measured generated = in_child([&] {
       kb::Dictionary dict;
       kb::FactoryDataOptions o;
       o.target_triples = size;
       o.seed = 7;
       std::ofstream out(data);
-      (void)kb::write_rdf(out, dict, kb::generate_factory_data(dict, o), kb::Syntax::ntriples);
+      const bool ok = kb::write_rdf(out, dict, kb::generate_factory_data(dict, o), kb::Syntax::ntriples).ok();
+      return nlohmann::json{{"ok", ok}};
+    });
+    if (!generated.ok || !generated.result.value("ok", false)) {
+      std::cerr << "generating " << data << " failed\n";
+      return 1;
     }
     const Measured a = in_child([&] { return ours(data, updates); });
     Measured b;
@@ -273,6 +280,9 @@ int main(int argc, char** argv) {
         b.ok ? b.result["heap_after_gc_mb"].get<double>() : 0.0, a.result["update_p99_ms"].get<double>(),
         b.ok ? b.result["update_p99_ms"].get<double>() : 0.0);
     std::remove(data.c_str());
+    std::cout.flush();
   }
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
   return 0;
 }

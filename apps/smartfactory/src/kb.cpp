@@ -67,11 +67,17 @@ std::vector<std::string> triple_lines(const kb::Reasoner& r, const std::vector<k
 }
 
 json derivation_json(const kb::Reasoner& r, const kb::Derivation& d) {
+  if (d.rule == nullptr) {
+    return json{{"rule", nullptr}, {"at", nullptr}, {"matched", json::array()}};
+  }
   return json{
       {"rule", d.rule->label()}, {"at", d.rule->pos.describe()}, {"matched", triple_lines(r, d.premises)}};
 }
 
 std::string derivation_text(const kb::Reasoner& r, const kb::Derivation& d) {
+  if (d.rule == nullptr) {
+    return "no derivation recorded";
+  }
   std::string line = fmt::format("rule {} ({})", d.rule->label(), d.rule->pos.describe());
   for (const std::string& t : triple_lines(r, d.premises)) {
     line += "\n#     " + t;

@@ -50,43 +50,43 @@ bool Builtins::bind(const RuleNode& n, TermId value, Env& env) const {
   return dict_.value_id(current) == dict_.value_id(value);
 }
 
-bool Builtins::compare(const BuiltinCall& c, const Env& env, bool (*accept)(int)) const {
+// The first two arguments when both are bound: the operands of comparisons and arithmetic.
+std::optional<Builtins::Operands> Builtins::operands(const BuiltinCall& c, const Env& env) const {
   const TermId a = arg(c, 0, env);
   const TermId b = arg(c, 1, env);
   if (a == kNoTerm || b == kNoTerm) {
+    return std::nullopt;
+  }
+  return Operands{a, b, dict_.value(a), dict_.value(b)};
+}
+
+bool Builtins::compare(const BuiltinCall& c, const Env& env, bool (*accept)(int)) const {
+  const auto o = operands(c, env);
+  if (!o || !numeric_or_instant(o->va, o->vb)) {
     return false;
   }
-  const LiteralValue* va = dict_.value(a);
-  const LiteralValue* vb = dict_.value(b);
-  if (!numeric_or_instant(va, vb)) {
-    return false;
-  }
-  const auto order = compare_values(*va, *vb);
+  const auto order = compare_values(*o->va, *o->vb);
   return order.has_value() && accept(*order);
 }
 
 bool Builtins::equal(const BuiltinCall& c, const Env& env) const {
-  const TermId a = arg(c, 0, env);
-  const TermId b = arg(c, 1, env);
-  if (a == kNoTerm || b == kNoTerm) {
+  const auto o = operands(c, env);
+  if (!o) {
     return false;
   }
-  const LiteralValue* va = dict_.value(a);
-  const LiteralValue* vb = dict_.value(b);
-  if (numeric_or_instant(va, vb)) {
-    const auto order = compare_values(*va, *vb);
+  if (numeric_or_instant(o->va, o->vb)) {
+    const auto order = compare_values(*o->va, *o->vb);
     return order.has_value() && *order == 0;
   }
-  return dict_.value_id(a) == dict_.value_id(b);
+  return dict_.value_id(o->a) == dict_.value_id(o->b);
 }
 
 bool Builtins::arithmetic(const BuiltinCall& c, Env& env) {
-  const TermId a = arg(c, 0, env);
-  const TermId b = arg(c, 1, env);
-  if (a == kNoTerm || b == kNoTerm || !dict_.is_literal(a) || !dict_.is_literal(b)) {
+  const auto o = operands(c, env);
+  if (!o || o->va == nullptr || o->vb == nullptr) {
     return false;
   }
-  const auto made = sf::knowledge::arithmetic(arithmetic_op(c.op), *dict_.value(a), *dict_.value(b));
+  const auto made = sf::knowledge::arithmetic(arithmetic_op(c.op), *o->va, *o->vb);
   if (!made) {
     return false;
   }
@@ -94,19 +94,13 @@ bool Builtins::arithmetic(const BuiltinCall& c, Env& env) {
 }
 
 bool Builtins::extremum(const BuiltinCall& c, Env& env, bool want_min) {
-  const TermId a = arg(c, 0, env);
-  const TermId b = arg(c, 1, env);
-  if (a == kNoTerm || b == kNoTerm) {
+  const auto o = operands(c, env);
+  if (!o || o->va == nullptr || o->vb == nullptr || !o->va->numeric() || !o->vb->numeric()) {
     return false;
   }
-  const LiteralValue* va = dict_.value(a);
-  const LiteralValue* vb = dict_.value(b);
-  if (va == nullptr || vb == nullptr || !va->numeric() || !vb->numeric()) {
-    return false;
-  }
-  const int order = compare_values(*va, *vb).value_or(0);
+  const int order = compare_values(*o->va, *o->vb).value_or(0);
   // Min.java: (v1 > v2) ? n2 : n1; Max.java: (v1 < v2) ? n2 : n1.
-  const TermId pick = want_min ? (order > 0 ? b : a) : (order < 0 ? b : a);
+  const TermId pick = want_min ? (order > 0 ? o->b : o->a) : (order < 0 ? o->b : o->a);
   return bind(c.args[2], pick, env);
 }
 

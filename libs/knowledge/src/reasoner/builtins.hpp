@@ -28,7 +28,13 @@ class Builtins {
   void print(const BuiltinCall& call, const Env& env);
 
  private:
+  struct Operands {
+    TermId a, b;
+    const LiteralValue* va;  // nullptr unless a literal
+    const LiteralValue* vb;
+  };
   [[nodiscard]] TermId arg(const BuiltinCall& c, std::size_t i, const Env& env) const;
+  [[nodiscard]] std::optional<Operands> operands(const BuiltinCall& c, const Env& env) const;
   bool bind(const RuleNode& n, TermId value, Env& env) const;
   bool compare(const BuiltinCall& c, const Env& env, bool (*accept)(int)) const;
   bool equal(const BuiltinCall& c, const Env& env) const;

@@ -95,6 +95,13 @@ void Client::call(std::vector<CallMethodRequest> methods,
   });
 }
 
+void Client::history_read_raw(NodeId node, HistoryRawParams params,
+                              std::function<void(Result<std::vector<DataValue>>)> done) {
+  post_to(loop_, impl_, [node = std::move(node), params, done = std::move(done)](Impl& impl) mutable {
+    impl.history_read_raw(std::move(node), params, {}, ByteString(), std::move(done));
+  });
+}
+
 void Client::get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done) {
   post_to(loop_, impl_,
           [done = std::move(done)](Impl& impl) mutable { impl.get_endpoints(std::move(done)); });

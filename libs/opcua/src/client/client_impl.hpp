@@ -56,6 +56,7 @@ SF_OPCUA_CLIENT_PAIR(TranslateBrowsePathsToNodeIds)
 SF_OPCUA_CLIENT_PAIR(Read)
 SF_OPCUA_CLIENT_PAIR(Write)
 SF_OPCUA_CLIENT_PAIR(Call)
+SF_OPCUA_CLIENT_PAIR(HistoryRead)
 SF_OPCUA_CLIENT_PAIR(CreateSubscription)
 SF_OPCUA_CLIENT_PAIR(DeleteSubscriptions)
 SF_OPCUA_CLIENT_PAIR(CreateMonitoredItems)
@@ -195,6 +196,11 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   void browse_next(ByteString continuation_point, std::vector<ReferenceDescription> collected,
                    std::function<void(Result<std::vector<ReferenceDescription>>)> done);
   void get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done);
+
+  // ---- history (history.cpp) ----
+  void history_read_raw(NodeId node, HistoryRawParams params, std::vector<DataValue> collected,
+                        ByteString continuation_point,
+                        std::function<void(Result<std::vector<DataValue>>)> done);
 
   // ---- subscriptions (subscriptions.cpp) ----
   void create_subscription(SubscriptionParams params, std::function<void(Result<SubscriptionId>)> done);

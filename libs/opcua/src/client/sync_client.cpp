@@ -86,6 +86,11 @@ Result<std::vector<EndpointDescription>> SyncClient::get_endpoints() {
       [&](auto done) { client_->get_endpoints(std::move(done)); });
 }
 
+Result<std::vector<DataValue>> SyncClient::history_read_raw(const NodeId& node, HistoryRawParams params) {
+  return wait_for<Result<std::vector<DataValue>>>(
+      [&](auto done) { client_->history_read_raw(node, params, std::move(done)); });
+}
+
 Result<SyncClient::SubscriptionId> SyncClient::create_subscription(SubscriptionParams params) {
   return wait_for<Result<SubscriptionId>>(
       [&](auto done) { client_->create_subscription(params, std::move(done)); });

@@ -284,9 +284,13 @@ void Dispatcher::handle(Call& call, Request& request) {
   } else if constexpr (std::is_same_v<Request, RepublishRequest>) {
     with_session(call, request,
                  [&](Session& s) { return subscriptions_.republish(s.authentication_token, request); });
+  } else if constexpr (std::is_same_v<Request, HistoryReadRequest>) {
+    with_session(call, request, [&](Session& s) {
+      auto ctx = context_for(s);
+      return history_read(space_, request, ctx, history_.get());
+    });
   } else {
-    // OpenSecureChannel/CloseSecureChannel never get here (the transport handles them);
-    // HistoryRead belongs to the cloud's aggregating server.
+    // OpenSecureChannel/CloseSecureChannel never get here (the transport handles them).
     log::get("opcua")->info("channel {}: {} is not supported", call.channel_id(), Request::kTypeName);
     fault(call, request.request_header, status::BadServiceUnsupported);
   }

@@ -78,6 +78,7 @@ Status Server::start() {
     dispatcher_ = std::make_unique<Dispatcher>(space_, clock_, identity, config_.sessions,
                                                config_.subscriptions, config_.operations);
     dispatcher_->set_on_schedule_changed([this] { schedule_tick(); });
+    dispatcher_->set_history_database(history_);
     auto transport = ServerTransport::start(thread_->loop(), transport_config, *dispatcher_, clock_);
     if (!transport) {
       result = transport.error();
@@ -125,6 +126,18 @@ void Server::with_address_space(const std::function<void(AddressSpace&)>& fn) {
 
 net::EventLoop& Server::loop() {
   return thread_->loop();
+}
+
+void Server::set_history_database(std::shared_ptr<HistoryDatabase> database) {
+  if (!thread_) {
+    return;
+  }
+  thread_->run_sync([&] {
+    history_ = std::move(database);
+    if (dispatcher_) {
+      dispatcher_->set_history_database(history_);
+    }
+  });
 }
 
 void Server::raise_event(const NodeId& notifier, SubscriptionService::Event event) {

@@ -213,15 +213,25 @@ TEST_F(DispatcherTest, RevisesTheSessionTimeoutIntoItsRange) {
   EXPECT_EQ(channel->last<CreateSessionResponse>().revised_session_timeout, 60'000.0);
 }
 
-TEST_F(DispatcherTest, UnsupportedServicesAndResponsesAsRequests) {
+TEST_F(DispatcherTest, HistoryWithoutADatabaseAndResponsesAsRequests) {
   auto channel = std::make_shared<FakeChannel>(1);
   const NodeId token = open_session(channel);
   HistoryReadRequest history;
   history.request_header.authentication_token = token;
   history.request_header.request_handle = 9;
+  ReadRawModifiedDetails details;
+  details.start_time = DateTime::from_unix_seconds(1);
+  details.end_time = DateTime::from_unix_seconds(2);
+  history.history_read_details = ExtensionObject::make(details);
+  history.timestamps_to_return = TimestampsToReturn::Both;
+  HistoryReadValueId item;
+  item.node_id = counter();
+  history.nodes_to_read = Array<HistoryReadValueId>{item};
   dispatcher_->on_request(channel, next_id_++, history);
-  EXPECT_EQ(channel->last_fault(), StatusCode(status::BadServiceUnsupported));
-  EXPECT_EQ(std::get<ServiceFault>(channel->responses.back().second).response_header.request_handle, 9U);
+  const auto& response = channel->last<HistoryReadResponse>();
+  EXPECT_EQ(response.response_header.request_handle, 9U);
+  ASSERT_EQ(response.results.size(), 1U);
+  EXPECT_EQ(response.results[0].status_code, StatusCode(status::BadHistoryOperationUnsupported));
   dispatcher_->on_request(channel, next_id_++, ReadResponse{});
   EXPECT_EQ(channel->last_fault(), StatusCode(status::BadServiceUnsupported));
 }

@@ -64,6 +64,17 @@ struct ClientConfig {
   TransportLimits limits;
 };
 
+// A raw history read (OPC 10000-11 §6.4.3.2): [start, end) forwards, or backwards when
+// start > end; with one bound open (DateTime::min()) max_values counts from the other.
+struct HistoryRawParams {
+  DateTime start;
+  DateTime end;
+  // numValuesPerNode: the values per response when both bounds are given (the client follows
+  // continuation points until it has all), the number of values otherwise; 0 = all.
+  std::uint32_t max_values = 0;
+  bool return_bounds = false;
+};
+
 enum class ClientState : std::uint8_t { Disconnected, Connecting, Connected, Reconnecting };
 std::string_view to_string(ClientState state);
 
@@ -106,6 +117,10 @@ class Client {
                  std::function<void(Result<std::vector<BrowsePathResult>>)> done);
   void call(std::vector<CallMethodRequest> methods,
             std::function<void(Result<std::vector<CallMethodResult>>)> done);
+  // The raw history of one Variable, following continuation points; a Bad status of the node's
+  // HistoryReadResult is returned as an error.
+  void history_read_raw(NodeId node, HistoryRawParams params,
+                        std::function<void(Result<std::vector<DataValue>>)> done);
   // On the session's channel when connected; otherwise on a channel of its own (no session).
   void get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done);
 
@@ -159,6 +174,7 @@ class SyncClient {
   Result<std::vector<BrowsePathResult>> translate(std::vector<BrowsePath> paths);
   Result<std::vector<CallMethodResult>> call(std::vector<CallMethodRequest> methods);
   Result<std::vector<EndpointDescription>> get_endpoints();
+  Result<std::vector<DataValue>> history_read_raw(const NodeId& node, HistoryRawParams params);
 
   Result<SubscriptionId> create_subscription(SubscriptionParams params);
   Result<std::uint32_t> monitor_value(SubscriptionId subscription, ReadValueId item,

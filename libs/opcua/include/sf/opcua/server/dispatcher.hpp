@@ -12,6 +12,7 @@
 
 #include "sf/core/clock.hpp"
 #include "sf/opcua/server/address_space.hpp"
+#include "sf/opcua/server/history.hpp"
 #include "sf/opcua/server/services.hpp"
 #include "sf/opcua/server/session.hpp"
 #include "sf/opcua/server/subscriptions.hpp"
@@ -46,6 +47,8 @@ class Dispatcher final : public ServiceHandler {
 
   // Called after every request that may have moved next_due() earlier.
   void set_on_schedule_changed(std::function<void()> callback) { on_schedule_changed_ = std::move(callback); }
+  // Where HistoryRead finds values (nullptr: HistoryRead answers BadHistoryOperationUnsupported).
+  void set_history_database(std::shared_ptr<HistoryDatabase> database) { history_ = std::move(database); }
 
   // An event raised by `source` (OPC 10000-5 §6.4.2 BaseEventType fields), reported to event
   // items on `notifier` and on the Server object.
@@ -79,6 +82,7 @@ class Dispatcher final : public ServiceHandler {
   SessionManager sessions_;
   SubscriptionService subscriptions_;
   std::function<void()> on_schedule_changed_;
+  std::shared_ptr<HistoryDatabase> history_;
 };
 
 // Fills the ResponseHeader fields every response carries (OPC 10000-4 §7.33).

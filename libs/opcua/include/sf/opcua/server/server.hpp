@@ -54,6 +54,10 @@ class Server {
   // The loop the server runs on, for the application's timers (e.g. a simulated sensor).
   net::EventLoop& loop();
 
+  // Where HistoryRead finds the history of Variables with AccessLevel HistoryRead (see
+  // history.hpp); any thread.
+  void set_history_database(std::shared_ptr<HistoryDatabase> database);
+
   // Reports an event to subscribers of `notifier` and of the Server object. Any thread.
   void raise_event(const NodeId& notifier, SubscriptionService::Event event);
 
@@ -75,6 +79,7 @@ class Server {
   AddressSpace space_;
   std::unique_ptr<net::LoopThread> thread_;
   std::unique_ptr<Dispatcher> dispatcher_;
+  std::shared_ptr<HistoryDatabase> history_;
   std::unique_ptr<ServerTransport> transport_;
   net::EventLoop::TimerId tick_timer_ = 0;
   Clock::time_point tick_at_ = Clock::time_point::max();

@@ -1,7 +1,8 @@
 """`smartfactory kb to-nodeset` turns the candy-factory ontology and the prototype line into a
 NodeSet2 that node-opcua loads next to the standard nodeset; a node-opcua client then browses
 the candy factory's types, reference types and objects. The same NodeSet2 is loaded into our
-own OPC UA server (`smartfactory opcua server --nodeset`) once that server imports NodeSet2."""
+own OPC UA server (`smartfactory opcua server --nodeset`) and browsed the same way (skipped only
+by a build whose server says NodeSet2 import is not available)."""
 import json
 import os
 import subprocess
@@ -83,7 +84,7 @@ check_model(browse(["--nodeset", model]), "node-opcua")
 
 # Our server, once it imports NodeSet2.
 log = os.path.join(work, "server.log")
-server = Background([binary(), "opcua", "server", "--port", "0", "--nodeset", model], log=log)
+server = Background([binary(), "opcua", "server", "--port", "0", "--nodeset", model, "--security", "none"], log=log)
 try:
     url = []
 
@@ -96,9 +97,10 @@ try:
         return not server.alive()
 
     wait_for(ready, 60, "our OPC UA server to start")
-    if not url:
-        print(f"SKIP (our server): it did not start with --nodeset:\n{server.output()[-500:]}", flush=True)
+    if not url and "not available" in server.output():
+        print(f"SKIP (our server): it cannot import NodeSet2 yet:\n{server.output()[-500:]}", flush=True)
     else:
+        check(bool(url), f"our server starts with the NodeSet2:\n{server.output()[-2000:]}")
         check_model(browse(["--url", url[0]]), "our server")
 finally:
     server.stop()

@@ -5,8 +5,9 @@
 //   ours:       smartfactory opcua server --demo-model --bench-variables 1000 --max-sessions N
 //   node-opcua: node tests/peers/opcua/node_server.mjs 0 --variables 1000 --max-sessions N
 //
-// Both run as processes of their own, on 127.0.0.1, SecurityPolicy None, anonymous. While one
-// server is measured the other is stopped (SIGSTOP), so neither disturbs the other's figures.
+// Both run as processes of their own, on 127.0.0.1, SecurityPolicy None (ours with `--security
+// none`), anonymous. While one server is measured the other is stopped (SIGSTOP), so neither
+// disturbs the other's figures.
 // Figures, each as ours, node-opcua, ratio ours / node-opcua:
 //   1. Read: values/s with 1 and with 100 values per ReadRequest (Value attribute, both
 //      timestamps), one session, `--depth` requests outstanding (8), for `--read-seconds` (3)
@@ -596,7 +597,7 @@ int run(const Options& o) {
   const std::string sessions = std::to_string(o.sessions);
   if (!ours.start({o.smartfactory.string(), "--log-level", "warn", "opcua", "server", "--host", "127.0.0.1",
                    "--advertised-host", "127.0.0.1", "--port", "0", "--demo-model", "--bench-variables", vars,
-                   "--max-sessions", sessions, "--status-interval", "0"},
+                   "--max-sessions", sessions, "--status-interval", "0", "--security", "none"},
                   o.source_dir, o.verbose, 30s)) {
     progress("our server did not start");
     return 1;

@@ -84,7 +84,7 @@ check_model(browse(["--nodeset", model]), "node-opcua")
 
 # Our server, once it imports NodeSet2.
 log = os.path.join(work, "server.log")
-server = Background([binary(), "opcua", "server", "--port", "0", "--nodeset", model], log=log)
+server = Background([binary(), "opcua", "server", "--port", "0", "--nodeset", model, "--security", "none"], log=log)
 try:
     url = []
 

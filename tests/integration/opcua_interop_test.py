@@ -19,7 +19,10 @@ DEMO = "nsu=urn:smartfactory:demo;s="
 
 def start_our_server(tmp):
     server = Background([binary(), "opcua", "server", "--host", "127.0.0.1", "--advertised-host", "127.0.0.1",
-                         "--port", "0", "--demo-model", "--status-interval", "0"],
+                         "--port", "0", "--demo-model", "--status-interval", "0",
+                         # Issue 5's interop over SecurityPolicy None (opcua_security_test.py has the
+                         # secured endpoints); anonymous users may write and call, as node_client.js does.
+                         "--security", "none", "--anonymous", "operator"],
                         log=os.path.join(tmp, "server.log"))
     url = wait_for_line(server, "listening on ", 20).split()[-1]
     check(url.startswith("opc.tcp://127.0.0.1:"), f"our server listens on {url}")
@@ -58,7 +61,7 @@ def check_node_client_results(out):
 
 
 def cli(*args, timeout=60, check_rc=True):
-    return run([binary(), "opcua", *args], timeout=timeout, check_rc=check_rc)
+    return run([binary(), "opcua", *args, "--security", "none"], timeout=timeout, check_rc=check_rc)
 
 
 def cli_json(*args, timeout=60):

@@ -57,26 +57,26 @@ def node_export_in_our_server(tmp):
     peer_xml = os.path.join(tmp, "peer.xml")
     built = node_json("export", peer_xml)
     server = Background([binary(), "opcua", "server", "--host", "127.0.0.1", "--advertised-host", "127.0.0.1",
-                         "--port", "0", "--nodeset", peer_xml, "--status-interval", "0"],
+                         "--port", "0", "--nodeset", peer_xml, "--status-interval", "0", "--security", "none"],
                         log=os.path.join(tmp, "server.log"))
     try:
         url = wait_for_line(server, "listening on ", 20).split()[-1]
         ns = f"nsu={built['namespace']};"
         obj = built["object"]
-        top = cli_json("browse", url)
+        top = cli_json("browse", url, "--security", "none")
         found = [c for c in top if c["browseName"].endswith(":" + obj["browseName"])]
         check(len(found) == 1, f"Objects organizes {obj['browseName']}: {[c['browseName'] for c in top]}")
         check(found[0]["typeDefinition"].endswith(obj["typeDefinition"].split(";")[-1]),
               f"{obj['browseName']} has the type node-opcua instantiated: {found[0]}")
-        children = cli_json("browse", url, "--node", ns + obj["nodeId"])
+        children = cli_json("browse", url, "--security", "none", "--node", ns + obj["nodeId"])
         names = {c["browseName"].split(":")[-1]: c for c in children}
         check(set(built["values"]) | {built["method"]["browseName"]} <= set(names),
               f"{obj['browseName']}'s children: {sorted(names)}")
-        values = cli_json("read", url, *[names[name]["nodeId"] for name in built["values"]])
+        values = cli_json("read", url, "--security", "none", *[names[name]["nodeId"] for name in built["values"]])
         got = {name: v["value"] for name, v in zip(built["values"], values)}
         check(got == built["values"], f"values read back equal node-opcua's: {got}")
         method = names[built["method"]["browseName"]]["nodeId"]
-        arguments = cli_json("browse", url, "--node", method)
+        arguments = cli_json("browse", url, "--security", "none", "--node", method)
         check({"InputArguments", "OutputArguments"} <= {a["browseName"].split(":")[-1] for a in arguments},
               "the method keeps its argument properties")
     finally:
@@ -92,7 +92,8 @@ def broken_file_is_refused(tmp):
     proc = cli("nodeset", bad, check_rc=False)
     check(proc.returncode != 0 and f"{bad}:3:3:" in proc.stderr and "NamespaceUris" in proc.stderr,
           f"a NodeId outside the file's namespaces is refused at its line: {proc.stderr.strip()}")
-    server = run([binary(), "opcua", "server", "--port", "0", "--nodeset", bad, "--duration", "1"], timeout=30,
+    server = run([binary(), "opcua", "server", "--port", "0", "--nodeset", bad, "--duration", "1", "--security", "none"],
+                 timeout=30,
                  check_rc=False)
     check(server.returncode != 0 and f"{bad}:3:3:" in server.stderr, "the server refuses to start with it")
 

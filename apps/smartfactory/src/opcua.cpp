@@ -1,5 +1,6 @@
 // `smartfactory opcua server|browse|read|write|call|subscribe`: our OPC UA server on a port, and
-// a small command-line UA client (readable output or --json) for any OPC UA server.
+// a small command-line UA client (readable output or --json) for any OPC UA server. Security
+// options: opcua_security.cpp; `opcua pki` and `opcua users`: opcua_pki.cpp, opcua_users.cpp.
 // Everything here parses options and prints; the opcua module does the work.
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 
 #include "commands.hpp"
 #include "opcua_nodeset.hpp"
+#include "opcua_security.hpp"
 #include "opcua_values.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/client/client.hpp"
@@ -45,6 +47,7 @@ struct ServerOptions {
   std::size_t max_monitored_items = 100'000;
   double duration_s = 0;
   double status_interval_s = 10;
+  ServerSecurityOptions security;
 };
 
 int run_server(const ServerOptions& o) {
@@ -57,6 +60,12 @@ int run_server(const ServerOptions& o) {
   config.transport.max_channels = std::max(config.transport.max_channels, o.max_sessions);
   config.subscriptions.max_subscriptions = o.max_subscriptions;
   config.subscriptions.max_monitored_items = o.max_monitored_items;
+  auto security = apply_server_security(o.security, o.demo_model, config);
+  if (!security) {
+    std::cerr << "opcua server: " << security.error().message << "\n";
+    return kExitFailure;
+  }
+  std::cerr << "opcua server: " << *security << "\n";
   ua::server::Server server(config);
   if (o.demo_model) {
     ua::server::DemoModelOptions demo;
@@ -103,6 +112,7 @@ struct ClientOptions {
   std::string url;
   bool json = false;
   double timeout_s = 10;
+  ClientSecurityOptions security;
 };
 
 void add_client_options(CLI::App& cmd, ClientOptions& o) {
@@ -111,6 +121,7 @@ void add_client_options(CLI::App& cmd, ClientOptions& o) {
   cmd.add_option("--timeout", o.timeout_s, "Seconds to wait for each request")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
+  add_client_security_options(cmd, o.security);
 }
 
 // A connected client for one command; prints the error and returns nullptr on failure.
@@ -120,9 +131,16 @@ std::unique_ptr<ua::SyncClient> connect(const ClientOptions& o, const char* comm
   config.session_name = fmt::format("smartfactory opcua {}", command);
   config.request_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.timeout_s * 1000));
   config.auto_reconnect = false;
+  if (auto st = apply_client_security(o.security, config); !st) {
+    std::cerr << "opcua " << command << ": " << st.error().message << "\n";
+    return nullptr;
+  }
   auto client = std::make_unique<ua::SyncClient>(config);
   if (auto st = client->connect(); !st) {
     std::cerr << "opcua " << command << ": cannot connect to " << o.url << ": " << st.error().message << "\n";
+    if (const std::string hint = security_hint(o.security, st.error()); !hint.empty()) {
+      std::cerr << "opcua " << command << ": " << hint << "\n";
+    }
     return nullptr;
   }
   return client;
@@ -453,11 +471,13 @@ void register_opcua(CLI::App& app, CommandResult& result) {
       "  smartfactory opcua browse opc.tcp://localhost:4840 --node 'nsu=urn:smartfactory:demo;s=Demo'\n"
       "  smartfactory opcua call opc.tcp://localhost:4840 'nsu=urn:smartfactory:demo;s=Demo' "
       "'nsu=urn:smartfactory:demo;s=Demo.Multiply' 6 7\n"
-      "Node ids: i=85, ns=2;s=Demo.Counter, or nsu=URI;s=... (namespace by URI).");
+      "Node ids: i=85, ns=2;s=Demo.Counter, or nsu=URI;s=... (namespace by URI).\n"
+      "Security: server and clients of one machine share the PKI folder (--pki) and trust each other;\n"
+      "other peers are refused until trusted (`opcua pki`). Users: `opcua users add`, `server --users`.");
 
   auto server = std::make_shared<ServerOptions>();
-  auto* server_cmd =
-      group->add_subcommand("server", "Run an OPC UA server (UA-TCP, SecurityPolicy None) until signalled");
+  auto* server_cmd = group->add_subcommand(
+      "server", "Run an OPC UA server (UA-TCP, signed and encrypted by default) until signalled");
   server_cmd->add_option("--host", server->host, "Address to listen on")->capture_default_str();
   server_cmd
       ->add_option("--port", server->port, "TCP port (0 = any free port; the first line printed names it)")
@@ -491,6 +511,7 @@ void register_opcua(CLI::App& app, CommandResult& result) {
       ->add_option("--status-interval", server->status_interval_s,
                    "Seconds between status lines on stderr (0 = none)")
       ->capture_default_str();
+  add_server_security_options(*server_cmd, server->security);
   server_cmd->callback([server, &result] { result.exit_code = run_server(*server); });
 
   auto browse = std::make_shared<BrowseOptions>();
@@ -541,6 +562,8 @@ void register_opcua(CLI::App& app, CommandResult& result) {
   subscribe_cmd->callback([subscribe, &result] { result.exit_code = run_subscribe(*subscribe); });
 
   register_opcua_nodeset(*group, result);
+  register_opcua_pki(*group, result);
+  register_opcua_users(*group, result);
 }
 
 }  // namespace sf::app

@@ -10,6 +10,8 @@
 // a failure to connect exits with status 2.
 "use strict";
 
+const { withTimeout } = require("./peer_util.js");
+
 const DEMO_URI = "urn:smartfactory:demo";
 
 function parseArgs(argv) {
@@ -21,14 +23,6 @@ function parseArgs(argv) {
   }
   if (!args.url) throw new Error("usage: node_client.js URL [--samples N] [--timeout-ms T]");
   return args;
-}
-
-function withTimeout(promise, ms, what) {
-  let timer;
-  const timeout = new Promise((_, reject) => {
-    timer = setTimeout(() => reject(new Error(`${what}: no answer within ${ms} ms`)), ms);
-  });
-  return Promise.race([promise, timeout]).finally(() => clearTimeout(timer));
 }
 
 async function step(out, name, fn) {

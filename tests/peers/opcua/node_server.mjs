@@ -8,6 +8,11 @@
 //                         read-only, all with a new value every 100 ms (variable i at step s:
 //                         s + i/1000), as `smartfactory opcua server --bench-variables N`
 //       --max-sessions N  sessions and connections the server accepts (node-opcua's default: 10)
+//       --secure DIR      for the security interop tests (issue 6): endpoints Basic256Sha256,
+//                         Aes128_Sha256_RsaOaep and Aes256_Sha256_RsaPss in Sign and SignAndEncrypt
+//                         (and None, for discovery) with the PKI folder DIR (node-opcua's layout:
+//                         own/, trusted/certs, rejected/; unknown client certificates are refused)
+//       --user NAME:PASSWORD  a user for UserName logins (repeatable)
 //
 // Listens on 127.0.0.1 with SecurityPolicy None and anonymous access, prints one line
 // "READY <port>" on stdout once it accepts connections, and exits when stdin closes (so a test
@@ -176,9 +181,14 @@ function build_bench_variables(addressSpace, count) {
 
 // <port> [--variables N] [--max-sessions N]
 function parse_args(args) {
-  const options = { port: 0, variables: 0, maxSessions: 0 };
+  const options = { port: 0, variables: 0, maxSessions: 0, secure: "", users: {} };
   for (let i = 0; i < args.length; i += 1) {
-    if (args[i] === "--variables") {
+    if (args[i] === "--secure") {
+      options.secure = args[(i += 1)];
+    } else if (args[i] === "--user") {
+      const [name, ...password] = args[(i += 1)].split(":");
+      options.users[name] = password.join(":");
+    } else if (args[i] === "--variables") {
       options.variables = Number.parseInt(args[(i += 1)], 10);
     } else if (args[i] === "--max-sessions") {
       options.maxSessions = Number.parseInt(args[(i += 1)], 10);
@@ -196,14 +206,28 @@ async function main() {
   // Keep the PKI (node-opcua creates a self-signed certificate on first start) in one place per
   // user, so later starts are fast and nothing is written into the source tree.
   const pki = path.join(os.tmpdir(), `sf-node-opcua-pki-${process.getuid?.() ?? 0}`);
-  const serverCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(pki, "server") });
+  const serverCertificateManager = new OPCUACertificateManager({
+    rootFolder: options.secure || path.join(pki, "server"),
+    automaticallyAcceptUnknownCertificate: !options.secure,
+  });
+  const secured = options.secure
+    ? {
+        securityPolicies: [
+          SecurityPolicy.None,
+          SecurityPolicy.Basic256Sha256,
+          SecurityPolicy.Aes128_Sha256_RsaOaep,
+          SecurityPolicy.Aes256_Sha256_RsaPss,
+        ],
+        securityModes: [MessageSecurityMode.None, MessageSecurityMode.Sign, MessageSecurityMode.SignAndEncrypt],
+        userManager: { isValidUser: (name, password) => options.users[name] === password },
+      }
+    : { securityPolicies: [SecurityPolicy.None], securityModes: [MessageSecurityMode.None] };
 
   const server = new OPCUAServer({
     port,
     host: "127.0.0.1",
     hostname: "127.0.0.1",
-    securityPolicies: [SecurityPolicy.None],
-    securityModes: [MessageSecurityMode.None],
+    ...secured,
     allowAnonymous: true,
     serverCertificateManager,
     disableDiscovery: true,

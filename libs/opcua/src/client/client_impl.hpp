@@ -139,6 +139,10 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     double revised_timeout_ms = 0;
     std::string anonymous_policy_id;
     bool activated = false;
+    // From CreateSession (the server's certificate) and the last CreateSession or
+    // ActivateSession (the nonce the next ActivateSession signs, OPC 10000-4 §5.6.3).
+    ByteString server_certificate;
+    ByteString server_nonce;
   };
 
   Impl(net::EventLoop& loop, ClientConfig config);
@@ -197,6 +201,19 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
                    std::function<void(Result<std::vector<ReferenceDescription>>)> done);
   void get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done);
 
+  // ---- security (secure_session.cpp) ----
+  // Policy None/None and no discovery: what issue 5's client did.
+  [[nodiscard]] bool plain() const;
+  // GetEndpoints over a None channel, then the endpoint to use with its certificate checked.
+  void discover_endpoint(std::uint64_t generation, std::function<void(Result<EndpointDescription>)> done);
+  [[nodiscard]] ClientTransportConfig transport_config() const;
+  void open_transport(std::uint64_t generation, ClientTransportConfig transport);
+  // CreateSession: our certificate and nonce; the answer's signature and endpoints.
+  void secure_create_request(CreateSessionRequest& request);
+  Status check_create_response(const CreateSessionResponse& response);
+  // ActivateSession: our signature and the user identity token.
+  Status fill_activation(ActivateSessionRequest& request) const;
+
   // ---- history (history.cpp) ----
   void history_read_raw(NodeId node, HistoryRawParams params, std::vector<DataValue> collected,
                         ByteString continuation_point,
@@ -246,6 +263,11 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   // Bumped whenever a channel is opened or dropped; callbacks of older channels are ignored.
   std::uint64_t channel_generation = 0;
   std::optional<Session> session;
+  // The endpoint in use and what GetEndpoints listed (empty for None without discovery), and
+  // the nonce of the last CreateSession.
+  std::optional<EndpointDescription> endpoint;
+  std::vector<EndpointDescription> discovered;
+  ByteString client_nonce;
   // Bumped for every new session: subscription state of an older session is stale.
   std::uint64_t session_epoch = 0;
   std::uint32_t next_request_handle = 1;

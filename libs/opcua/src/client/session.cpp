@@ -131,11 +131,24 @@ void Client::Impl::connect(std::function<void(Status)> done) {
 }
 
 void Client::Impl::open_channel() {
-  ClientTransportConfig transport;
-  transport.endpoint_url = config.endpoint_url;
-  transport.limits = config.limits;
-  transport.connect_timeout = config.request_timeout;
   const std::uint64_t generation = ++channel_generation;
+  if (plain()) {
+    endpoint.reset();
+    open_transport(generation, transport_config());
+    return;
+  }
+  discover_endpoint(generation, [this, generation](Result<EndpointDescription> found) {
+    if (!found) {
+      logger->warn("opcua client {}: no usable endpoint: {}", config.endpoint_url, found.error().message);
+      lose_channel(generation, found.error());
+      return;
+    }
+    endpoint = std::move(*found);
+    open_transport(generation, transport_config());
+  });
+}
+
+void Client::Impl::open_transport(std::uint64_t generation, ClientTransportConfig transport) {
   ClientChannel::open(loop, std::move(transport),
                       [weak = weak_from_this(), generation](Result<std::shared_ptr<ClientChannel>> opened) {
                         auto self = weak.lock();
@@ -190,6 +203,7 @@ void Client::Impl::create_session() {
   request.client_nonce = random_nonce();
   request.requested_session_timeout = config.session_timeout_ms;
   request.max_response_message_size = config.limits.max_message_size;
+  secure_create_request(request);
   const std::uint64_t generation = channel_generation;
   send(std::move(request), [this, generation](Result<CreateSessionResponse> response) {
     if (generation != channel_generation) {
@@ -201,10 +215,17 @@ void Client::Impl::create_session() {
       lose_channel(generation, response.error());
       return;
     }
+    if (auto st = check_create_response(*response); !st) {
+      logger->warn("opcua client {}: CreateSession: {}", config.endpoint_url, st.error().message);
+      lose_channel(generation, st.error());
+      return;
+    }
     Session created;
     created.session_id = response->session_id;
     created.authentication_token = response->authentication_token;
     created.revised_timeout_ms = response->revised_session_timeout;
+    created.server_certificate = response->server_certificate;
+    created.server_nonce = response->server_nonce;
     created.anonymous_policy_id = anonymous_policy_id(response->server_endpoints);
     if (created.anonymous_policy_id.empty()) {
       logger->warn("opcua client {}: the server lists no anonymous UserTokenPolicy; trying \"anonymous\"",
@@ -219,8 +240,12 @@ void Client::Impl::create_session() {
 
 void Client::Impl::activate_session(bool reactivating) {
   ActivateSessionRequest request;
-  request.user_identity_token = ExtensionObject::make(AnonymousIdentityToken{session->anonymous_policy_id});
   const std::uint64_t generation = channel_generation;
+  if (auto st = fill_activation(request); !st) {
+    logger->warn("opcua client {}: ActivateSession: {}", config.endpoint_url, st.error().message);
+    post([this, generation, error = st.error()]() { lose_channel(generation, error); });
+    return;
+  }
   send(std::move(request), [this, generation, reactivating](Result<ActivateSessionResponse> response) {
     if (generation != channel_generation) {
       return;
@@ -242,6 +267,7 @@ void Client::Impl::activate_session(bool reactivating) {
       return;
     }
     session->activated = true;
+    session->server_nonce = response->server_nonce;
     on_session_active(reactivating);
   });
 }

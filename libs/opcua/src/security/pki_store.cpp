@@ -1,8 +1,13 @@
 // The PKI folder: own credentials, trusted/issuers/rejected certificates and CRLs.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -114,11 +119,19 @@ Result<SecurityCredentials> PkiStore::create_own(const CertificateRequest& reque
 }
 
 Result<SecurityCredentials> PkiStore::ensure_own(const CertificateRequest& request) const {
-  if (has_own()) {
-    SF_TRY(create_folders());
-    return load_own();
+  SF_TRY(create_folders());
+  // A server and a client of one installation may start together on a fresh folder: one makes
+  // the certificate, the other waits and loads it (certificate and key must stay a pair).
+  const fs::path lock_file = root_ / ".lock";
+  const int fd = ::open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    return make_error(Errc::io, fmt::format("cannot open {}: {}", lock_file.string(), std::strerror(errno)));
   }
-  return create_own(request);
+  while (::flock(fd, LOCK_EX) != 0 && errno == EINTR) {
+  }
+  auto own = has_own() ? load_own() : create_own(request);
+  ::close(fd);  // releases the lock
+  return own;
 }
 
 std::string PkiStore::file_name(const CertificateInfo& info) {

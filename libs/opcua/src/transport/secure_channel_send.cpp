@@ -140,6 +140,12 @@ void SecureChannel::on_open_request(std::uint32_t request_id, const OpenSecureCh
            fmt::format("mode {} with policy {}", to_string(request.security_mode), policy_uri_));
       return;
     }
+    if (config_.accept_security) {
+      if (auto st = config_.accept_security(policy_uri_, request.security_mode); !st.ok()) {
+        fail(status_of(st.error()), detail::reason_of(st.error()));
+        return;
+      }
+    }
     mode_ = request.security_mode;
   } else if (request.security_mode != mode_) {
     fail(status::BadSecurityModeRejected, "OPN Renew changes the security mode");

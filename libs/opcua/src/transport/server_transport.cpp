@@ -288,6 +288,7 @@ void ServerTransport::Impl::accept(std::shared_ptr<net::TcpConnection> tcp) {
   sc.policies = config.policies;
   sc.credentials = config.credentials;
   sc.validate_certificate = config.validate_certificate;
+  sc.accept_security = config.accept_security;
   sc.channel_id = allocate_channel_id();
   sc.max_token_lifetime_ms = config.max_token_lifetime_ms;
   sc.min_token_lifetime_ms = config.min_token_lifetime_ms;

@@ -4,6 +4,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "session_security.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/status_codes.hpp"
 #include "sf/opcua/transport/security_policy.hpp"
@@ -14,7 +15,6 @@ namespace {
 
 constexpr std::string_view kTransportProfile =
     "http://opcfoundation.org/UA-Profile/Transport/uatcp-uasc-uabinary";
-constexpr std::string_view kAnonymousPolicyId = "anonymous";
 
 template <typename T>
 constexpr bool kIsRequest = requires(T t) {
@@ -59,7 +59,12 @@ Dispatcher::Dispatcher(AddressSpace& space, const Clock& clock, ServerIdentity i
       identity_(std::move(identity)),
       operation_limits_(operation_limits),
       sessions_(clock, session_limits),
-      subscriptions_(clock, subscription_limits, subscription_callbacks()) {}
+      subscriptions_(clock, subscription_limits, subscription_callbacks()),
+      security_(std::make_shared<const ServerSecurity>()) {}
+
+void Dispatcher::set_security(std::shared_ptr<const ServerSecurity> security) {
+  security_ = security ? std::move(security) : std::make_shared<const ServerSecurity>();
+}
 
 Dispatcher::~Dispatcher() = default;
 
@@ -117,18 +122,24 @@ ApplicationDescription Dispatcher::application_description(std::string_view endp
 // clients behind a different host name see URLs they can connect to.
 std::vector<EndpointDescription> Dispatcher::endpoints(std::string_view endpoint_url) const {
   const std::string url = endpoint_url.empty() ? identity_.endpoint_url : std::string(endpoint_url);
-  EndpointDescription endpoint;
-  endpoint.endpoint_url = url;
-  endpoint.server = application_description(url);
-  endpoint.security_mode = MessageSecurityMode::None;
-  endpoint.security_policy_uri = std::string(kSecurityPolicyNoneUri);
-  UserTokenPolicy anonymous;
-  anonymous.policy_id = std::string(kAnonymousPolicyId);
-  anonymous.token_type = UserTokenType::Anonymous;
-  endpoint.user_identity_tokens = Array<UserTokenPolicy>{anonymous};
-  endpoint.transport_profile_uri = std::string(kTransportProfile);
-  endpoint.security_level = 0;
-  return {endpoint};
+  std::vector<EndpointDescription> out;
+  // OPC 10000-4 §5.4.4: one endpoint per offered policy × mode, with the server certificate and
+  // the user token policies of that endpoint.
+  for (const auto& offered : security_->endpoints) {
+    EndpointDescription endpoint;
+    endpoint.endpoint_url = url;
+    endpoint.server = application_description(url);
+    if (!security_->credentials.certificate.empty()) {
+      endpoint.server_certificate = security_->credentials.certificate;
+    }
+    endpoint.security_mode = offered.mode;
+    endpoint.security_policy_uri = offered.policy_uri;
+    endpoint.user_identity_tokens = Array<UserTokenPolicy>(user_token_policies(*security_, offered));
+    endpoint.transport_profile_uri = std::string(kTransportProfile);
+    endpoint.security_level = security_level(offered);
+    out.push_back(std::move(endpoint));
+  }
+  return out;
 }
 
 void Dispatcher::on_request(const std::shared_ptr<ServerChannel>& channel, std::uint32_t request_id,
@@ -159,6 +170,7 @@ ServiceContext Dispatcher::context_for(Session& session) {
   ctx.clock = &clock_;
   ctx.limits = operation_limits_;
   ctx.continuations = &session.continuations;
+  ctx.user = session.user.get();
   return ctx;
 }
 
@@ -297,13 +309,25 @@ void Dispatcher::handle(Call& call, Request& request) {
 }
 
 void Dispatcher::create_session(Call& call, const CreateSessionRequest& request) {
+  const ChannelInfo& channel = call.channel->info();
+  if (auto st = detail::check_endpoint(*security_, channel); !st) {
+    log::get("opcua")->info("CreateSession refused: {}", st.error().message);
+    fault(call, request.request_header, status_of(st.error()));
+    return;
+  }
   auto session = sessions_.create(request, call.channel_id());
   if (!session) {
     fault(call, request.request_header, status_of(session.error()));
     return;
   }
-  const Session& s = **session;
+  Session& s = **session;
   CreateSessionResponse response;
+  if (auto st = detail::secure_create_session(*security_, channel, request, s, response); !st) {
+    log::get("opcua")->warn("CreateSession refused: {}", st.error().message);
+    sessions_.remove(s.authentication_token);
+    fault(call, request.request_header, status_of(st.error()));
+    return;
+  }
   response.session_id = s.session_id;
   response.authentication_token = s.authentication_token;
   response.revised_session_timeout = s.timeout_ms;
@@ -315,7 +339,25 @@ void Dispatcher::create_session(Call& call, const CreateSessionRequest& request)
 }
 
 void Dispatcher::activate_session(Call& call, const ActivateSessionRequest& request) {
-  auto session = sessions_.activate(request, call.channel_id());
+  const ChannelInfo& channel = call.channel->info();
+  auto session = sessions_.find_for_activation(request, call.channel_id());
+  Result<SessionIdentity> identity = session ? Result<SessionIdentity>(SessionIdentity{}) : session.error();
+  if (session) {
+    if (auto st = detail::check_endpoint(*security_, channel); !st) {
+      identity = st.error();
+    } else {
+      identity = detail::authenticate_activation(*security_, channel, **session, request, clock_);
+    }
+  }
+  if (identity) {
+    auto user = detail::access_for(*security_, space_, *identity);
+    session = sessions_.complete_activation(**session, std::move(*identity), request, call.channel_id());
+    if (session) {
+      (*session)->user = std::move(user);
+    }
+  } else {
+    session = identity.error();
+  }
   if (!session) {
     log::get("opcua")->info("ActivateSession refused: {}", session.error().message);
     fault(call, request.request_header, status_of(session.error()));

@@ -6,11 +6,16 @@
 #include <array>
 #include <chrono>
 
+#include <fmt/format.h>
+
 #include "sf/core/log.hpp"
+#include "sf/opcua/security/policies.hpp"
 #include "sf/opcua/server/ns0.hpp"
 #include "sf/opcua/status_codes.hpp"
 
 namespace sf::opcua::server {
+
+namespace sec = ::sf::opcua::security;
 
 namespace {
 
@@ -34,6 +39,49 @@ BuildInfo build_info(const ServerConfig& config, const Clock& clock) {
   info.build_number = config.software_version;
   info.build_date = DateTime::from_system_clock(clock.utc_now());
   return info;
+}
+
+// The transport's part of ServerSecurity: the endpoints' policies (and None, for discovery),
+// the certificate, client certificate validation, and which policy × mode an OPN may ask for.
+Status configure_transport(const std::shared_ptr<const ServerSecurity>& security,
+                           ServerTransportConfig& transport) {
+  std::vector<std::string> uris;
+  for (const auto& endpoint : security->endpoints) {
+    if (endpoint.policy_uri != kSecurityPolicyNoneUri &&
+        std::find(uris.begin(), uris.end(), endpoint.policy_uri) == uris.end()) {
+      uris.push_back(endpoint.policy_uri);
+    }
+  }
+  auto registry = sec::make_registry(uris);
+  if (!registry) {
+    return registry.error();
+  }
+  if (!uris.empty() && security->credentials.certificate.empty()) {
+    return status_error(
+        status::BadConfigurationError,
+        "endpoints with security policies need the server's application instance certificate");
+  }
+  transport.policies = *registry;
+  transport.credentials = security->credentials;
+  if (security->validator) {
+    // OPC 10000-4 §5.5.2: the client learns only BadSecurityChecksFailed; the reason goes to
+    // the log (the validator writes it).
+    transport.validate_certificate = [validator =
+                                          security->validator](const ByteString& certificate) -> Status {
+      if (auto st = validator->validate(certificate); !st) {
+        return status_error(status::BadSecurityChecksFailed, "the client certificate was rejected");
+      }
+      return {};
+    };
+  }
+  transport.accept_security = [security](std::string_view policy, MessageSecurityMode mode) -> Status {
+    if (policy == kSecurityPolicyNoneUri || security->offers(policy, mode)) {
+      return {};  // None is always open for GetEndpoints and FindServers
+    }
+    return status_error(status::BadSecurityModeRejected,
+                        fmt::format("no endpoint with {} and {}", sec::policy_name(policy), to_string(mode)));
+  };
+  return {};
 }
 
 }  // namespace
@@ -74,11 +122,17 @@ Status Server::start() {
   Status result;
   thread_->run_sync([&] {
     auto transport_config = config_.transport;
+    auto security = std::make_shared<const ServerSecurity>(config_.security);
+    if (auto st = configure_transport(security, transport_config); !st) {
+      result = st;
+      return;
+    }
     ServerIdentity identity = config_.identity;
     dispatcher_ = std::make_unique<Dispatcher>(space_, clock_, identity, config_.sessions,
                                                config_.subscriptions, config_.operations);
     dispatcher_->set_on_schedule_changed([this] { schedule_tick(); });
     dispatcher_->set_history_database(history_);
+    dispatcher_->set_security(security);
     auto transport = ServerTransport::start(thread_->loop(), transport_config, *dispatcher_, clock_);
     if (!transport) {
       result = transport.error();

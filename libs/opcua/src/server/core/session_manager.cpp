@@ -72,7 +72,8 @@ Result<Session*> SessionManager::create(const CreateSessionRequest& request, std
   return raw;
 }
 
-Result<Session*> SessionManager::activate(const ActivateSessionRequest& request, std::uint32_t channel_id) {
+Result<Session*> SessionManager::find_for_activation(const ActivateSessionRequest& request,
+                                                     std::uint32_t channel_id) {
   auto it = sessions_.find(request.request_header.authentication_token);
   if (it == sessions_.end()) {
     return status_error(status::BadSessionIdInvalid, "ActivateSession for an unknown session");
@@ -82,24 +83,16 @@ Result<Session*> SessionManager::activate(const ActivateSessionRequest& request,
     return status_error(status::BadSecureChannelIdInvalid,
                         "the first ActivateSession must use the channel that created the session");
   }
-  SessionIdentity identity;
-  const ExtensionObject& token = request.user_identity_token;
-  if (token.empty()) {
-    // Part 4 §7.40: a null token means anonymous.
-    identity.token_type = UserTokenType::Anonymous;
-  } else if (const auto* anonymous = token.get_if<AnonymousIdentityToken>()) {
-    identity.token_type = UserTokenType::Anonymous;
-    identity.policy_id = std::string(anonymous->policy_id.view());
-  } else if (token.type_id() == NodeId(0, id::UserNameIdentityToken_Encoding_DefaultBinary) ||
-             token.type_id() == NodeId(0, id::X509IdentityToken_Encoding_DefaultBinary) ||
-             token.type_id() == NodeId(0, id::IssuedIdentityToken_Encoding_DefaultBinary) ||
-             token.get_if<UserNameIdentityToken>() != nullptr ||
-             token.get_if<X509IdentityToken>() != nullptr || token.get_if<IssuedIdentityToken>() != nullptr) {
-    return status_error(status::BadIdentityTokenRejected, "only anonymous user tokens are accepted");
-  } else {
-    return status_error(status::BadIdentityTokenInvalid, "the user identity token is not a known token type");
-  }
-  if (session.activated && identity.token_type != session.identity.token_type) {
+  return &session;
+}
+
+Result<Session*> SessionManager::complete_activation(Session& session, SessionIdentity identity,
+                                                     const ActivateSessionRequest& request,
+                                                     std::uint32_t channel_id) {
+  // Part 4 §5.6.3 allows a new user on an activated session; we do not (a reconnecting client
+  // re-activates as the same user).
+  if (session.activated && (identity.token_type != session.identity.token_type ||
+                            identity.user_name != session.identity.user_name)) {
     return status_error(status::BadIdentityChangeNotSupported, "the session's user cannot change");
   }
   if (session.activated && session.channel_id != channel_id) {

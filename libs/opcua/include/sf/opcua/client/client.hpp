@@ -9,13 +9,15 @@
 //
 // Connection (OPC 10000-4 §6.7 "re-establishing connections"): connect() opens the secure
 // channel, creates and activates a session (anonymous, with the policy id from the endpoint's
-// UserTokenPolicy). When the channel is lost and auto_reconnect is on, the client retries with
-// exponential backoff (reconnect_min .. reconnect_max). On a new channel it first activates the
-// existing session; if that works, subscriptions continue: missing notifications are fetched
-// with Republish and Publish resumes. If the session is gone, a new session is created and every
-// subscription and monitored item is re-created with the same client handles and callbacks (the
-// initial values arrive again). Notifications are delivered per subscription in sequence-number
-// order, without duplicates.
+// UserTokenPolicy, or the configured user). With a security policy other than None it first
+// asks the server for its endpoints over a None channel, picks one, checks the server's
+// certificate, then opens the secured channel and checks the session signatures (§5.6.2). When the channel is
+// lost and auto_reconnect is on, the client retries with exponential backoff (reconnect_min ..
+// reconnect_max). On a new channel it first activates the existing session; if that works, subscriptions
+// continue: missing notifications are fetched with Republish and Publish resumes. If the session is gone, a
+// new session is created and every subscription and monitored item is re-created with the same client handles
+// and callbacks (the initial values arrive again). Notifications are delivered per subscription in
+// sequence-number order, without duplicates.
 //
 // Service requests made while not Connected fail with BadNotConnected.
 #pragma once
@@ -31,6 +33,7 @@
 
 #include "sf/core/result.hpp"
 #include "sf/net/event_loop.hpp"
+#include "sf/opcua/client/client_security.hpp"
 #include "sf/opcua/encoding.hpp"
 #include "sf/opcua/transport/tcp_messages.hpp"
 
@@ -62,6 +65,10 @@ struct ClientConfig {
   std::chrono::milliseconds reconnect_max{10'000};
   std::size_t publish_requests = 3;  // outstanding Publish requests per session
   TransportLimits limits;
+  // Endpoint selection, own certificate, server certificate checks (client_security.hpp); the
+  // default is SecurityPolicy None without discovery.
+  ClientSecurity security;
+  UserIdentity user;  // anonymous by default
 };
 
 // A raw history read (OPC 10000-11 §6.4.3.2): [start, end) forwards, or backwards when

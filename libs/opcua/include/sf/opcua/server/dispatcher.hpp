@@ -13,6 +13,7 @@
 #include "sf/core/clock.hpp"
 #include "sf/opcua/server/address_space.hpp"
 #include "sf/opcua/server/history.hpp"
+#include "sf/opcua/server/security.hpp"
 #include "sf/opcua/server/services.hpp"
 #include "sf/opcua/server/session.hpp"
 #include "sf/opcua/server/subscriptions.hpp"
@@ -47,6 +48,9 @@ class Dispatcher final : public ServiceHandler {
 
   // Called after every request that may have moved next_due() earlier.
   void set_on_schedule_changed(std::function<void()> callback) { on_schedule_changed_ = std::move(callback); }
+  // Endpoints, certificate, client certificate validation, users and roles (issue 6); nullptr
+  // or never called: SecurityPolicy None with unrestricted anonymous users.
+  void set_security(std::shared_ptr<const ServerSecurity> security);
   // Where HistoryRead finds values (nullptr: HistoryRead answers BadHistoryOperationUnsupported).
   void set_history_database(std::shared_ptr<HistoryDatabase> database) { history_ = std::move(database); }
 
@@ -83,6 +87,7 @@ class Dispatcher final : public ServiceHandler {
   SubscriptionService subscriptions_;
   std::function<void()> on_schedule_changed_;
   std::shared_ptr<HistoryDatabase> history_;
+  std::shared_ptr<const ServerSecurity> security_;
 };
 
 // Fills the ResponseHeader fields every response carries (OPC 10000-4 §7.33).

@@ -30,6 +30,9 @@ struct ServerConfig {
   // machine's host name.
   std::string advertised_host;
   ServerTransportConfig transport;
+  // Endpoints, certificate, trust, users and roles (security.hpp); the default is None and
+  // unrestricted anonymous access. Overrides transport.policies/credentials/validate_certificate.
+  ServerSecurity security;
   SessionLimits sessions;
   SubscriptionLimits subscriptions;
   OperationLimits operations;

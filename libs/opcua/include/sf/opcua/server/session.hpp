@@ -26,11 +26,13 @@ struct SessionLimits {
   std::uint32_t max_request_message_size = 0;
 };
 
-// The identity an ActivateSession established. Issue 6 adds user names and certificates.
+// The identity an ActivateSession established (OPC 10000-4 §5.6.3, §7.40).
 struct SessionIdentity {
   UserTokenType token_type = UserTokenType::Anonymous;
   std::string policy_id;
-  std::string user_name;
+  std::string user_name;               // UserName, and the user an X509 certificate maps to
+  std::string certificate_thumbprint;  // X509
+  std::vector<std::string> roles;      // from the users file (anonymous: the anonymous role)
 };
 
 struct Session {
@@ -43,7 +45,14 @@ struct Session {
   std::uint32_t channel_id = 0;  // the channel the session is bound to
   bool activated = false;
   ByteString server_nonce;
+  // The security of the channel that created it (OPC 10000-4 §5.6.2): a later ActivateSession
+  // must come over a channel with the same policy, mode and client certificate.
+  std::string security_policy_uri;
+  MessageSecurityMode security_mode = MessageSecurityMode::None;
+  ByteString client_certificate;  // leaf DER; null for SecurityPolicy None
   SessionIdentity identity;
+  // What the user may do (nullptr: everything the nodes allow).
+  std::shared_ptr<const UserContext> user;
   std::vector<std::string> locale_ids;
   BrowseContinuations continuations;
 
@@ -58,11 +67,15 @@ class SessionManager {
   // limit. The response's session fields are filled by the caller from the returned Session.
   Result<Session*> create(const CreateSessionRequest& request, std::uint32_t channel_id);
 
-  // Part 4 §5.6.3: the first activation must come over the channel that created the session;
-  // later ones may move the session to a new channel (reconnect) — the identity then must not
-  // change. Checks the identity token (Anonymous only until issue 6): BadIdentityTokenInvalid,
-  // BadIdentityTokenRejected for unsupported token types. Issues a new server nonce.
-  Result<Session*> activate(const ActivateSessionRequest& request, std::uint32_t channel_id);
+  // Part 4 §5.6.3: the session an ActivateSession names (BadSessionIdInvalid); the first
+  // activation must come over the channel that created it (BadSecureChannelIdInvalid). Changes
+  // nothing: the caller checks signatures and the identity token first.
+  Result<Session*> find_for_activation(const ActivateSessionRequest& request, std::uint32_t channel_id);
+  // Activates the session for a checked identity over channel_id (a later activation may move
+  // the session to a new channel, e.g. after a reconnect, but the user must not change:
+  // BadIdentityChangeNotSupported) and issues a new server nonce.
+  Result<Session*> complete_activation(Session& session, SessionIdentity identity,
+                                       const ActivateSessionRequest& request, std::uint32_t channel_id);
 
   // The session a service request belongs to (authenticationToken of the request header):
   // BadSessionIdInvalid when unknown, BadSecureChannelIdInvalid when it is bound to another

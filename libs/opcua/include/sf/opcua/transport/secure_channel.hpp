@@ -13,9 +13,11 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sf/core/bytes.hpp"
@@ -41,6 +43,9 @@ struct SecureChannelConfig {
   SecurityCredentials credentials;
   // Checks the peer's certificate (policies other than None); nullptr accepts any.
   std::function<Status(const ByteString& certificate)> validate_certificate;
+  // Server: whether the endpoint offers this policy and mode (nullptr: every registered policy
+  // with the modes it allows). A refusal closes the channel with the status returned.
+  std::function<Status(std::string_view policy_uri, MessageSecurityMode mode)> accept_security;
 
   // Server: the channel id, unique per server and non-zero (assigned by the owner).
   std::uint32_t channel_id = 0;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "sf/core/clock.hpp"
 #include "sf/core/result.hpp"
@@ -69,6 +70,8 @@ struct ServerTransportConfig {
   SecurityCredentials credentials;
   // Checks client certificates (policies other than None); nullptr accepts any.
   std::function<Status(const ByteString& certificate)> validate_certificate;
+  // Whether a policy and mode are offered (see SecureChannelConfig::accept_security).
+  std::function<Status(std::string_view policy_uri, MessageSecurityMode mode)> accept_security;
 };
 
 class ServerTransport {

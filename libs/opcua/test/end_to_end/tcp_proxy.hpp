@@ -69,10 +69,11 @@ class TcpProxy {
       if (::poll(fds.data(), fds.size(), 20) <= 0) {
         continue;
       }
+      // Forward before accepting: fds describes the pairs as they were when polled.
+      forward(fds);
       if ((fds[0].revents & POLLIN) != 0) {
         accept_one();
       }
-      forward(fds);
     }
   }
 

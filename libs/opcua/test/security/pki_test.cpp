@@ -175,7 +175,8 @@ TEST_F(PkiTest, RevokedCertificatesAreRefused) {
   const auto bad = app_certificate("urn:test:bad", "other", 2048, &ca);
   trust(ca.certificate);
   EXPECT_EQ(validate(bad.certificate), StatusCode{});  // no CRL yet: not known to be revoked
-  auto crl = create_crl(ca, {bad.certificate});
+  // Issued at the validator's time: a CRL dated after it is not yet valid.
+  auto crl = create_crl(ca, {bad.certificate}, clock_.utc_now());
   ASSERT_TRUE(crl.ok()) << crl.error().message;
   ASSERT_TRUE(write_file(store_.trusted_crls() / "plant.crl", *crl).ok());
   EXPECT_EQ(validate(bad.certificate), status::BadCertificateRevoked);
@@ -189,7 +190,9 @@ TEST_F(PkiTest, RevokedIssuersAreRefused) {
   trust(root.certificate);
   add_issuer(sub.certificate);
   EXPECT_EQ(validate(leaf.certificate), StatusCode{});
-  ASSERT_TRUE(write_file(store_.trusted_crls() / "root.crl", *create_crl(root, {sub.certificate})).ok());
+  ASSERT_TRUE(
+      write_file(store_.trusted_crls() / "root.crl", *create_crl(root, {sub.certificate}, clock_.utc_now()))
+          .ok());
   EXPECT_EQ(validate(leaf.certificate), status::BadCertificateIssuerRevoked);
 }
 

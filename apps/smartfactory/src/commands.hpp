@@ -34,6 +34,8 @@ void register_agent(CLI::App& app, CommandResult& result);
 void register_cnp(CLI::App& app, CommandResult& result);
 // `opcua server|browse|read|write|call|subscribe` (opcua module).
 void register_opcua(CLI::App& app, CommandResult& result);
+// `cloud --config cloud.yaml` (cloud module).
+void register_cloud(CLI::App& app, CommandResult& result);
 // `kb reason|to-nodeset|generate` (knowledge module).
 void register_kb(CLI::App& app, CommandResult& result);
 

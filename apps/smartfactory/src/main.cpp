@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_OPCUA
   sf::app::register_opcua(app, result);
 #endif
+#ifdef SF_HAVE_CLOUD
+  sf::app::register_cloud(app, result);
+#endif
 #ifdef SF_HAVE_HISTORY
   sf::app::register_history(app, result);
 #endif

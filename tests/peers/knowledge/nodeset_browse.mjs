@@ -12,6 +12,7 @@
 //     "referenceTypes": { "<name>": { "supertype": "<name>", "inverseName": "..", "symmetric": bool } },
 //     "objects": { "<name>": { "type": "<name>", "parent": "<name>", "components": [...],
 //                              "references": { "<reftype>": [...] }, "values": { "<name>": value } } } }
+import "../opcua/quiet_console.mjs";
 import net from "node:net";
 import os from "node:os";
 import path from "node:path";
@@ -28,10 +29,6 @@ import {
   SecurityPolicy,
   nodesets,
 } from "node-opcua";
-
-console.log = (...args) => console.error(...args);
-console.info = (...args) => console.error(...args);
-console.warn = (...args) => console.error(...args);
 
 function parse_args(argv) {
   const args = { nodeset: null, url: null, namespace: null };

@@ -24,6 +24,7 @@
 //   Multiply(a: Double, b: Double) -> Double                   ns=<i>;s=Demo.Multiply
 //   RaiseEvent(message: String)  raises a BaseEventType event   ns=<i>;s=Demo.RaiseEvent
 // and a BaseEventType event on the Server object every 500 ms ("tick <n>", severity 100).
+import "./quiet_console.mjs";
 import net from "node:net";
 import os from "node:os";
 import path from "node:path";
@@ -39,11 +40,6 @@ import {
   StatusCodes,
   Variant,
 } from "node-opcua";
-
-// node-opcua prints warnings with console.log; keep stdout for the READY line only.
-console.log = (...args) => console.error(...args);
-console.info = (...args) => console.error(...args);
-console.warn = (...args) => console.error(...args);
 
 const log = (...args) => process.stderr.write(`[node_server] ${args.join(" ")}\n`);
 

@@ -12,6 +12,7 @@
 //       Builds a small model with node-opcua's address-space API in namespace urn:node-opcua:peer
 //       and writes it as NodeSet2 XML to OUT (namespace.toNodeset2XML()); prints on stdout a JSON
 //       document of what it built, for the test to compare with what our server serves.
+import "./quiet_console.mjs";
 import fs from "node:fs";
 import net from "node:net";
 import os from "node:os";
@@ -34,9 +35,6 @@ import {
 import { AddressSpace } from "node-opcua-address-space";
 import { generateAddressSpace } from "node-opcua-address-space/nodeJS.js";
 
-console.log = (...args) => console.error(...args);
-console.info = (...args) => console.error(...args);
-console.warn = (...args) => console.error(...args);
 const log = (...args) => process.stderr.write(`[nodeset_peer] ${args.join(" ")}\n`);
 
 async function free_port() {

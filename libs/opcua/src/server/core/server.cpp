@@ -161,6 +161,10 @@ void Server::stop() {
       thread_->loop().cancel_timer(tick_timer_);
       tick_timer_ = 0;
     }
+    if (dispatcher_) {
+      // What clients have not received yet goes out before the connections close.
+      dispatcher_->flush_subscriptions();
+    }
     if (transport_) {
       transport_->stop();
       transport_.reset();

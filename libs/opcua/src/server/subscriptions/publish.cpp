@@ -242,6 +242,18 @@ void SubscriptionService::publish(const SessionKey& session, const PublishReques
   m.deliver();
 }
 
+void SubscriptionService::flush() {
+  Impl& m = *impl_;
+  for (auto& [id, sub] : m.subscriptions) {
+    const subs::SessionState* state = m.session_of(sub);
+    while (state != nullptr && !state->publish_queue.empty() && sub.publishing_enabled &&
+           sub.has_notifications()) {
+      m.send(sub, true);
+    }
+  }
+  m.deliver();
+}
+
 void SubscriptionService::tick() {
   Impl& m = *impl_;
   const time_point now = m.clock.now();

@@ -158,3 +158,30 @@ TEST_F(SubsPublishing, TooManyAcknowledgementsAreRejected) {
 
 }  // namespace
 }  // namespace sf::opcua::subs_test
+
+namespace sf::opcua::subs_test {
+namespace {
+
+// A server shutting down sends what its subscriptions hold without waiting for the interval.
+TEST_F(SubsPublishing, FlushSendsHeldNotificationsAtOnce) {
+  set(node("T"), 0.0);
+  const auto sub = create_sub(1000, 10, 30);
+  create_item(sub, item_request(node("T"), params(1, 10)));
+  publish(1);
+  advance(1000);
+  ASSERT_EQ(answers.size(), 1U);  // the initial value
+  set(node("T"), 5.0);
+  publish(2);
+  advance(10);  // sampled into the item's queue; the publishing interval is far off
+  ASSERT_EQ(answers.size(), 1U);
+  svc->flush();
+  ASSERT_EQ(answers.size(), 2U);
+  EXPECT_EQ(doubles(response(1)), (Pairs{{1, 5.0}}));
+  // Nothing held: flush sends nothing (the queued request waits for the next cycle).
+  publish(3);
+  svc->flush();
+  EXPECT_EQ(answers.size(), 2U);
+}
+
+}  // namespace
+}  // namespace sf::opcua::subs_test

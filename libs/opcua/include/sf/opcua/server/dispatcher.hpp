@@ -42,6 +42,9 @@ class Dispatcher final : public ServiceHandler {
                   Message request) override;
   void on_channel_closed(std::uint32_t channel_id) override;
 
+  // Before the server stops: sends the notifications the subscriptions hold (see
+  // SubscriptionService::flush).
+  void flush_subscriptions() { subscriptions_.flush(); }
   // Expires sessions, samples monitored items, runs publishing cycles. Call at next_due().
   void tick();
   [[nodiscard]] Clock::time_point next_due() const;

@@ -120,6 +120,10 @@ class SubscriptionService {
   // queued Publish requests, times them out, and expires subscriptions whose lifetime counter
   // ran out (StatusChangeNotification BadTimeout for the session's next Publish, then deleted).
   void tick();
+  // A server shutting down (OPC 10000-4 §6.6): sends what the subscriptions hold now to the
+  // queued Publish requests, whatever their publishing intervals, so clients lose nothing the
+  // server had already sampled.
+  void flush();
   // When tick() has work next; time_point::max() when nothing is scheduled.
   [[nodiscard]] time_point next_due() const;
 

@@ -1,0 +1,139 @@
+// `smartfactory cloud --config cloud.yaml`: the cloud gateway (paper §V.B, Fig. 6) — an OPC UA
+// client of every shop-floor server writing to the historian, with an aggregating OPC UA server
+// for history. Runs until signalled and shows a status line; the cloud module does the work.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "sf/cloud/config.hpp"
+#include "sf/cloud/gateway.hpp"
+
+namespace sf::app {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct CloudOptions {
+  std::string config;
+  double status_interval_s = 5;
+  double duration_s = 0;
+  int aggregating_port = -1;  // -1: as the config says
+};
+
+std::string status_line(const cloud::GatewayStatus& s, double samples_per_s) {
+  std::size_t connected = 0;
+  std::size_t series = 0;
+  for (const auto& server : s.servers) {
+    connected += server.connected ? 1 : 0;
+    series += server.series;
+  }
+  return fmt::format(
+      "cloud: {}/{} servers connected, {} series, {:.0f} samples/s, {} written ({} failed), "
+      "{} queued, {} buffered, database {}",
+      connected, s.servers.size(), series, samples_per_s, s.samples_written, s.samples_failed, s.queued,
+      s.buffer.buffered_records, s.buffer.database_up ? "up" : "away");
+}
+
+void print_problems(const cloud::GatewayStatus& s) {
+  for (const auto& server : s.servers) {
+    if (!server.connected && !server.last_error.empty()) {
+      std::fprintf(stderr, "cloud: %s (%s): %s: %s\n", server.name.c_str(), server.url.c_str(),
+                   server.phase.c_str(), server.last_error.c_str());
+    }
+  }
+}
+
+int run_cloud(const CloudOptions& o) {
+  auto config = cloud::load_gateway_config(o.config);
+  if (!config) {
+    std::cerr << "cloud: " << config.error().message << "\n";
+    return kExitUsage;
+  }
+  if (o.aggregating_port >= 0) {
+    config->aggregating_server.enabled = true;
+    config->aggregating_server.port = static_cast<std::uint16_t>(o.aggregating_port);
+  }
+  auto gateway = cloud::Gateway::create(std::move(*config));
+  if (!gateway) {
+    std::cerr << "cloud: " << gateway.error().describe() << "\n";
+    return kExitFailure;
+  }
+  if (auto st = (*gateway)->start(); !st) {
+    std::cerr << "cloud: " << st.error().describe() << "\n";
+    return kExitFailure;
+  }
+  install_stop_signals();
+  // The first stdout line says where the aggregating server listens (scripts wait for it).
+  const auto first = (*gateway)->status();
+  if (first.aggregating_port != 0) {
+    std::printf("aggregating server on port %u\n", first.aggregating_port);
+  } else {
+    std::printf("gateway running\n");
+  }
+  std::fflush(stdout);
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start;
+  std::uint64_t last_received = 0;
+  while (!stop_requested()) {
+    std::this_thread::sleep_for(50ms);
+    const auto now = std::chrono::steady_clock::now();
+    if (o.duration_s > 0 && now - start >= std::chrono::duration<double>(o.duration_s)) {
+      break;
+    }
+    if (o.status_interval_s > 0 && now - last >= std::chrono::duration<double>(o.status_interval_s)) {
+      const auto s = (*gateway)->status();
+      const double seconds = std::chrono::duration<double>(now - last).count();
+      std::fprintf(stderr, "%s\n",
+                   status_line(s, static_cast<double>(s.samples_received - last_received) / seconds).c_str());
+      print_problems(s);
+      last_received = s.samples_received;
+      last = now;
+    }
+  }
+  (*gateway)->stop();
+  const auto s = (*gateway)->status();
+  std::fprintf(stderr, "cloud: stopped; %llu samples received, %llu written, %llu buffered records left\n",
+               static_cast<unsigned long long>(s.samples_received),
+               static_cast<unsigned long long>(s.samples_written),
+               static_cast<unsigned long long>(s.buffer.buffered_records));
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_cloud(CLI::App& app, CommandResult& result) {
+  auto o = std::make_shared<CloudOptions>();
+  auto* cmd = app.add_subcommand("cloud",
+                                 "Cloud gateway: OPC UA client of the shop-floor servers → historian "
+                                 "(SQLite/PostgreSQL, store-and-forward), "
+                                 "with an aggregating OPC UA server for history");
+  cmd->add_option("--config", o->config, "The gateway's YAML file (servers, subscribe rules, historian)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--status-interval", o->status_interval_s,
+                  "Seconds between status lines on stderr (0 = none)")
+      ->capture_default_str();
+  cmd->add_option("--duration", o->duration_s, "Stop after this many seconds (0 = until signalled)")
+      ->capture_default_str();
+  cmd->add_option(
+      "--aggregating-port", o->aggregating_port,
+      "Run the aggregating OPC UA server on this port (0 = any free port) whatever the config says");
+  cmd->footer(
+      "cloud.yaml:\n"
+      "  historian: {url: 'sqlite:history.db', buffer: history.buffer}\n"
+      "  servers:\n"
+      "    - name: line-1\n"
+      "      url: opc.tcp://localhost:4840\n"
+      "      subscribe: [{browse_path: /Objects/Demo}]\n"
+      "  aggregating_server: {port: 4850}\n"
+      "See docs/cloud.md for every setting.");
+  cmd->callback([o, &result] { result.exit_code = run_cloud(*o); });
+}
+
+}  // namespace sf::app

@@ -1,0 +1,94 @@
+// The cloud gateway's configuration (cloud.yaml): the OPC UA servers it is a client of, what it
+// subscribes to on each, the historian it writes to, and the aggregating OPC UA server through
+// which supervisory clients read history. Errors name file:line:column and the key path.
+//
+//   historian:
+//     url: sqlite:/var/lib/smartfactory/history.db     # or postgresql://user@host:5432/db
+//     buffer: /var/lib/smartfactory/buffer            # store-and-forward directory
+//     batch: 1000                                     # samples per database write
+//     flush_ms: 200                                   # the oldest sample waits at most this long
+//   servers:
+//     - name: line-1
+//       url: opc.tcp://10.0.0.5:4840
+//       publishing_interval_ms: 100
+//       sampling_interval_ms: 100
+//       queue_size: 10
+//       events: true                                  # events of the Server object
+//       subscribe:
+//         - browse_path: /Objects/Demo                # the Variables below a node (depth levels)
+//           depth: 3
+//         - node: nsu=urn:smartfactory:demo;s=Demo.Counter
+//         - type: nsu=urn:example;i=1000              # every instance of an ObjectType
+//   discovery:                                        # more servers, found with FindServers
+//     url: opc.tcp://lds:4840
+//     subscribe: [{browse_path: /Objects}]
+//   aggregating_server:
+//     port: 4850
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sf/core/result.hpp"
+
+namespace sf::cloud {
+
+// One of browse_path, node or type.
+struct SubscribeRule {
+  // "/Objects/Demo/Temperature": browse names from the Root, each "Name", "2:Name" (namespace
+  // index of the server) or any namespace when no index is given.
+  std::string browse_path;
+  // A NodeId, "ns=2;s=X" or "nsu=URI;s=X" (namespace by URI, stable across server restarts).
+  std::string node;
+  // An ObjectType: its instances (and those of its subtypes) anywhere below Objects.
+  std::string type;
+  // Levels of hierarchical references followed below the node or instance for Variables.
+  unsigned depth = 3;
+};
+
+struct ServerConfig {
+  std::string name;  // unique; the series' server key and the folder of the aggregating server
+  std::string url;   // opc.tcp://host:port[/path]
+  double publishing_interval_ms = 100;
+  double sampling_interval_ms = 100;
+  std::uint32_t queue_size = 10;
+  bool events = false;
+  std::vector<SubscribeRule> subscribe;
+};
+
+struct HistorianConfig {
+  std::string url = "sqlite:history.db";
+  std::filesystem::path buffer = "history.buffer";
+  std::size_t batch = 1000;
+  std::chrono::milliseconds flush_interval{200};
+};
+
+struct DiscoveryConfig {
+  std::string url;
+  // What to subscribe to on every server FindServers returns (name: its ApplicationUri).
+  ServerConfig defaults;
+};
+
+struct AggregatingServerConfig {
+  bool enabled = false;
+  std::string host = "0.0.0.0";
+  std::uint16_t port = 4850;
+};
+
+struct GatewayConfig {
+  std::vector<ServerConfig> servers;
+  std::optional<DiscoveryConfig> discovery;
+  HistorianConfig historian;
+  AggregatingServerConfig aggregating_server;
+};
+
+Result<GatewayConfig> load_gateway_config(const std::filesystem::path& file);
+// `name` stands for the file name in errors.
+Result<GatewayConfig> parse_gateway_config(std::string_view yaml, std::string name = "<config>");
+
+}  // namespace sf::cloud

@@ -1,0 +1,78 @@
+// The cloud gateway (paper §V.B, Fig. 6): an OPC UA client of every shop-floor server that
+// delivers real-time data and events to in-process applications (LiveBus) and historical data and
+// events to the historian, and an aggregating OPC UA server through which supervisory clients
+// read that history (HistoryRead).
+//
+//   auto gateway = Gateway::create(config);           // opens the historian (store-and-forward)
+//   auto on = gateway->live().subscribe([](const LiveUpdate& u) { ... });
+//   gateway->start();                                  // servers connect in the background
+//   ... gateway->status() ...
+//   gateway->stop();                                   // queued samples are written first
+//
+// A server that does not answer, or answers wrongly, is retried and reported in status(); the
+// others keep working. A database that is away is bridged by the durable buffer.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sf/cloud/config.hpp"
+#include "sf/cloud/live_bus.hpp"
+#include "sf/core/clock.hpp"
+#include "sf/historian/buffered_store.hpp"
+
+namespace sf::cloud {
+
+struct ServerStatus {
+  std::string name;
+  std::string url;
+  // "connecting", "discovering", "subscribed", "reconnecting", "stopped"
+  std::string phase;
+  bool connected = false;
+  std::size_t series = 0;
+  std::uint64_t samples = 0;
+  std::uint64_t events = 0;
+  std::string last_error;
+  std::vector<std::string> warnings;  // rules that matched nothing, ...
+};
+
+struct GatewayStatus {
+  std::vector<ServerStatus> servers;
+  std::uint64_t samples_received = 0;
+  std::uint64_t samples_written = 0;
+  std::uint64_t samples_failed = 0;
+  std::uint64_t events_written = 0;
+  std::size_t queued = 0;
+  historian::BufferStats buffer;
+  std::uint16_t aggregating_port = 0;  // 0 when not running
+};
+
+// Called after each batch the historian accepted (latency measurements).
+using CommitObserver = std::function<void(std::span<const historian::Sample>)>;
+
+class Gateway {
+ public:
+  static Result<std::unique_ptr<Gateway>> create(GatewayConfig config, Clock& clock = SteadyClock::instance(),
+                                                 CommitObserver on_commit = nullptr);
+  ~Gateway();
+  Gateway(const Gateway&) = delete;
+  Gateway& operator=(const Gateway&) = delete;
+
+  // Starts every server connection and the aggregating server (whose port must be free).
+  Status start();
+  void stop();
+
+  [[nodiscard]] GatewayStatus status() const;
+  LiveBus& live();
+  historian::Store& store();
+
+  struct Impl;
+
+ private:
+  explicit Gateway(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sf::cloud

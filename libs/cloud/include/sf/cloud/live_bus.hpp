@@ -1,0 +1,64 @@
+// Live updates inside the cloud process (paper Fig. 6: real-time data to applications): every
+// value and event the gateway receives, fanned out to in-process subscribers such as the reasoner
+// and the dashboard, before and independent of the database write.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "sf/historian/types.hpp"
+
+namespace sf::cloud {
+
+struct LiveUpdate {
+  const historian::SeriesInfo* series = nullptr;  // valid during the callback
+  historian::Sample sample;
+};
+
+class LiveBus {
+ public:
+  using Callback = std::function<void(const LiveUpdate&)>;
+  using EventCallback = std::function<void(const historian::Event&)>;
+
+  // Unsubscribes when destroyed.
+  class Subscription {
+   public:
+    Subscription() = default;
+    Subscription(LiveBus* bus, std::size_t id) : bus_(bus), id_(id) {}
+    Subscription(Subscription&& other) noexcept { *this = std::move(other); }
+    Subscription& operator=(Subscription&& other) noexcept;
+    Subscription(const Subscription&) = delete;
+    Subscription& operator=(const Subscription&) = delete;
+    ~Subscription();
+
+   private:
+    LiveBus* bus_ = nullptr;
+    std::size_t id_ = 0;
+  };
+
+  // Callbacks run on the gateway's threads, one update at a time per server: keep them short and
+  // never call back into the bus from them.
+  [[nodiscard]] Subscription subscribe(Callback on_value, EventCallback on_event = nullptr);
+  void publish(const LiveUpdate& update);
+  void publish(const historian::Event& event);
+  [[nodiscard]] std::size_t subscribers() const;
+
+ private:
+  void unsubscribe(std::size_t id);
+  struct Entry {
+    Callback on_value;
+    EventCallback on_event;
+  };
+  [[nodiscard]] std::vector<std::shared_ptr<Entry>> snapshot() const;
+
+  mutable std::mutex mutex_;
+  std::map<std::size_t, std::shared_ptr<Entry>> entries_;
+  std::size_t next_ = 1;
+};
+
+}  // namespace sf::cloud

@@ -1,0 +1,261 @@
+#include "server_link.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "model_walk.hpp"
+#include "sf/cloud/value_mapping.hpp"
+#include "sf/core/log.hpp"
+
+namespace sf::cloud::detail {
+
+namespace {
+
+namespace ua = sf::opcua;
+using namespace std::chrono_literals;
+
+// BaseEventType fields the historian keeps (OPC 10000-5 §6.4.2), in this order.
+const std::vector<std::string> kEventFields = {"EventId", "EventType",   "SourceNode", "SourceName",
+                                               "Time",    "ReceiveTime", "Message",    "Severity"};
+
+historian::Timestamp now() {
+  return std::chrono::time_point_cast<historian::Micros>(std::chrono::system_clock::now());
+}
+
+template <typename T>
+const T* field(const std::vector<ua::Variant>& fields, std::size_t i) {
+  return i < fields.size() ? fields[i].get_if<T>() : nullptr;
+}
+
+}  // namespace
+
+ServerLink::ServerLink(ServerConfig config, historian::Store& store, SampleWriter& writer, LiveBus& bus,
+                       std::function<void(const historian::Series&)> on_series)
+    : config_(std::move(config)),
+      store_(store),
+      writer_(writer),
+      bus_(bus),
+      on_series_(std::move(on_series)) {
+  ua::ClientConfig client;
+  client.endpoint_url = config_.url;
+  client.session_name = fmt::format("smartfactory cloud gateway ({})", config_.name);
+  client.application_uri = "urn:smartfactory:cloud:gateway";
+  client.request_timeout = 10s;
+  client_ = std::make_unique<ua::SyncClient>(std::move(client));
+  client_->set_on_state([this](ua::ClientState state, const Status& why) {
+    client_state_ = static_cast<int>(state);
+    if (!why.ok()) {
+      std::lock_guard lock(mutex_);
+      last_error_ = why.error().message;
+    }
+  });
+}
+
+ServerLink::~ServerLink() {
+  stop();
+}
+
+void ServerLink::start() {
+  setup_thread_ = std::thread([this] { setup(); });
+}
+
+void ServerLink::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  stop_wait_.notify_all();
+  if (setup_thread_.joinable()) {
+    setup_thread_.join();
+  }
+  if (client_) {
+    client_->disconnect();
+  }
+  set_phase("stopped");
+}
+
+void ServerLink::set_phase(std::string phase, std::string error) {
+  std::lock_guard lock(mutex_);
+  phase_ = std::move(phase);
+  if (!error.empty()) {
+    last_error_ = std::move(error);
+  }
+}
+
+ServerStatus ServerLink::status() const {
+  std::lock_guard lock(mutex_);
+  ServerStatus s;
+  s.name = config_.name;
+  s.url = config_.url;
+  const auto state = static_cast<ua::ClientState>(client_state_.load());
+  s.connected = state == ua::ClientState::Connected;
+  s.phase = phase_ == "subscribed" && state == ua::ClientState::Reconnecting ? "reconnecting" : phase_;
+  s.series = series_count_.load();
+  s.samples = samples_.load();
+  s.events = events_.load();
+  s.last_error = last_error_;
+  s.warnings = warnings_;
+  return s;
+}
+
+// Until the server answers, with a back-off from 250 ms to 10 s (the first connect has no
+// automatic reconnect of its own).
+Status ServerLink::connect_with_retry() {
+  auto backoff = 250ms;
+  while (true) {
+    set_phase("connecting");
+    const Status connected = client_->connect();
+    if (connected) {
+      return {};
+    }
+    log::get("cloud")->warn("{} ({}): {}; retrying in {} ms", config_.name, config_.url,
+                            connected.error().message, backoff.count());
+    set_phase("connecting", connected.error().message);
+    std::unique_lock lock(mutex_);
+    if (stop_wait_.wait_for(lock, backoff, [this] { return stopping_; })) {
+      return make_error(Errc::state, "stopped");
+    }
+    backoff = std::min<std::chrono::milliseconds>(backoff * 2, 10s);
+  }
+}
+
+void ServerLink::setup() {
+  while (true) {
+    if (!connect_with_retry()) {
+      return;
+    }
+    const Status subscribed = subscribe_all();
+    if (subscribed) {
+      set_phase("subscribed");
+      return;
+    }
+    // A connection lost during discovery: start over (nothing was subscribed yet).
+    log::get("cloud")->warn("{}: setting up failed: {}", config_.name, subscribed.error().message);
+    set_phase("connecting", subscribed.error().message);
+    client_->disconnect();
+    std::unique_lock lock(mutex_);
+    if (stopping_ || stop_wait_.wait_for(lock, 1s, [this] { return stopping_; })) {
+      return;
+    }
+  }
+}
+
+Status ServerLink::subscribe_all() {
+  set_phase("discovering");
+  auto namespaces = NamespaceTable::read(*client_);
+  if (!namespaces) {
+    return namespaces.error();
+  }
+  auto found = discover(*client_, *namespaces, config_.subscribe);
+  if (!found) {
+    return found.error();
+  }
+  {
+    std::lock_guard lock(mutex_);
+    warnings_ = found->warnings;
+  }
+  for (const std::string& warning : found->warnings) {
+    log::get("cloud")->warn("{}: {}", config_.name, warning);
+  }
+  // Sized once: notifications may arrive (on the client's loop thread) while items are added.
+  series_.clear();
+  series_count_ = 0;
+  series_.reserve(found->variables.size());
+  for (const DiscoveredVariable& v : found->variables) {
+    historian::SeriesInfo info{config_.name, v.key, v.browse_path,
+                               historian_type(v.data_type).value_or(historian::DataType::string), v.unit};
+    auto id = store_.register_series(info);
+    if (!id) {
+      return id.error();
+    }
+    series_.push_back({historian::Series{*id, info}, std::nullopt});
+    ++series_count_;
+    if (on_series_) {
+      on_series_(series_.back().series);
+    }
+  }
+  auto subscription =
+      client_->create_subscription({.publishing_interval_ms = config_.publishing_interval_ms});
+  if (!subscription) {
+    return subscription.error();
+  }
+  for (std::size_t i = 0; i < found->variables.size(); ++i) {
+    ua::MonitoringParameters parameters;
+    parameters.sampling_interval = config_.sampling_interval_ms;
+    parameters.queue_size = config_.queue_size;
+    parameters.discard_oldest = true;
+    auto item = client_->monitor_value(*subscription, ua::value_of(found->variables[i].node), parameters,
+                                       [this, i](const ua::DataValue& value) { on_value(i, value); });
+    if (!item) {
+      std::lock_guard lock(mutex_);
+      warnings_.push_back(fmt::format("{}: {}", found->variables[i].browse_path, item.error().message));
+    }
+  }
+  if (config_.events) {
+    SF_TRY(subscribe_events(*subscription));
+  }
+  log::get("cloud")->info("{}: {} series subscribed{}", config_.name, series_.size(),
+                          config_.events ? ", with events" : "");
+  return {};
+}
+
+Status ServerLink::subscribe_events(ua::SyncClient::SubscriptionId subscription) {
+  auto item = client_->monitor_events(subscription, ua::NodeId(0, ua::id::Server),
+                                      ua::select_event_fields(kEventFields),
+                                      [this](const std::vector<ua::Variant>& fields) { on_event(fields); });
+  if (!item) {
+    return item.error();
+  }
+  return {};
+}
+
+// Notifications of one item arrive in order. A re-created item first reports the current value
+// again: the same source time, value and status as the last sample, dropped here. Several
+// values with one source time are numbered (seq), which keeps them apart in the historian.
+void ServerLink::on_value(std::size_t index, const ua::DataValue& value) {
+  SeriesState& state = series_[index];
+  historian::Sample sample = to_sample(state.series.id, value, now());
+  if (state.last && sample.source_time == state.last->source_time) {
+    if (sample.value == state.last->value && sample.status == state.last->status) {
+      return;
+    }
+    sample.seq = state.last->seq + 1;
+  }
+  state.last = sample;
+  ++samples_;
+  bus_.publish(LiveUpdate{&state.series.info, sample});
+  writer_.push(std::move(sample));
+}
+
+void ServerLink::on_event(const std::vector<ua::Variant>& fields) {
+  historian::Event event;
+  event.server = config_.name;
+  if (const auto* id = field<ua::ByteString>(fields, 0)) {
+    event.event_id = id->bytes();
+  }
+  if (const auto* type = field<ua::NodeId>(fields, 1)) {
+    event.event_type = ua::to_string(*type);
+  }
+  if (const auto* source = field<ua::NodeId>(fields, 2)) {
+    event.source_node = ua::to_string(*source);
+  }
+  if (const auto* name = field<ua::String>(fields, 3)) {
+    event.source_name = name->str();
+  }
+  const auto* time = field<ua::DateTime>(fields, 4);
+  event.time = time != nullptr ? to_timestamp(*time) : now();
+  const auto* receive = field<ua::DateTime>(fields, 5);
+  event.receive_time = receive != nullptr ? to_timestamp(*receive) : now();
+  if (const auto* message = field<ua::LocalizedText>(fields, 6)) {
+    event.message = message->text.str();
+  }
+  if (const auto* severity = field<std::uint16_t>(fields, 7)) {
+    event.severity = *severity;
+  }
+  ++events_;
+  bus_.publish(event);
+  writer_.push(std::move(event));
+}
+
+}  // namespace sf::cloud::detail

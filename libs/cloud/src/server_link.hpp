@@ -1,0 +1,76 @@
+// The gateway's connection to one shop-floor OPC UA server: connect (retrying until it answers),
+// find the Variables the subscribe rules name, register them as historian series, subscribe, and
+// turn every notification into a sample for the writer and the live bus. After setup the client's
+// own reconnect (session reactivation with Republish, or re-creation after a server restart)
+// keeps the data coming; samples re-delivered by a re-created monitored item are dropped here.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sample_writer.hpp"
+#include "sf/cloud/config.hpp"
+#include "sf/cloud/gateway.hpp"
+#include "sf/cloud/live_bus.hpp"
+#include "sf/opcua/client/client.hpp"
+
+namespace sf::cloud::detail {
+
+class ServerLink {
+ public:
+  // on_series: each series once it is registered (the aggregating server adds its node).
+  ServerLink(ServerConfig config, historian::Store& store, SampleWriter& writer, LiveBus& bus,
+             std::function<void(const historian::Series&)> on_series);
+  ~ServerLink();
+  ServerLink(const ServerLink&) = delete;
+  ServerLink& operator=(const ServerLink&) = delete;
+
+  // Starts connecting in the background; returns at once.
+  void start();
+  void stop();
+  [[nodiscard]] ServerStatus status() const;
+
+ private:
+  // Per monitored item; touched by the client's loop thread only once setup is done.
+  struct SeriesState {
+    historian::Series series;
+    std::optional<historian::Sample> last;
+  };
+
+  void setup();
+  Status connect_with_retry();
+  Status subscribe_all();
+  Status subscribe_events(opcua::SyncClient::SubscriptionId subscription);
+  void on_value(std::size_t index, const opcua::DataValue& value);
+  void on_event(const std::vector<opcua::Variant>& fields);
+  void set_phase(std::string phase, std::string error = {});
+
+  ServerConfig config_;
+  historian::Store& store_;
+  SampleWriter& writer_;
+  LiveBus& bus_;
+  std::function<void(const historian::Series&)> on_series_;
+  std::unique_ptr<opcua::SyncClient> client_;
+  std::vector<SeriesState> series_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable stop_wait_;
+  bool stopping_ = false;
+  std::string phase_ = "idle";
+  std::string last_error_;
+  std::vector<std::string> warnings_;
+  std::atomic<std::size_t> series_count_{0};
+  std::atomic<std::uint64_t> samples_{0};
+  std::atomic<std::uint64_t> events_{0};
+  std::atomic<int> client_state_{0};
+  std::thread setup_thread_;
+};
+
+}  // namespace sf::cloud::detail

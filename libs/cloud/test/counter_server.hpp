@@ -1,0 +1,93 @@
+// Test servers with monotonic counters: our OPC UA server with Int64 counters under
+// Objects/Line. The test steps the counters; wait_sampled() returns once the server has sampled
+// the latest value of every counter, so no value can be skipped by sampling and the test knows
+// exactly which values were produced. A counter keeps its value and source timestamp across a
+// server restart (its state lives in the test), as a real device's would.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sf/opcua/server/server.hpp"
+
+namespace sf::cloud::test {
+
+class Counter {
+ public:
+  void set(std::int64_t value) {
+    stamp_ = opcua::DateTime::from_system_clock(std::chrono::system_clock::now()).ticks();
+    value_ = value;
+    ++generation_;
+  }
+  [[nodiscard]] bool sampled() const { return sampled_.load() >= generation_.load(); }
+  opcua::DataValue read() {
+    const std::uint64_t generation = generation_.load();
+    opcua::DataValue v{opcua::Variant(value_.load())};
+    v.source_timestamp = opcua::DateTime(stamp_.load());
+    sampled_ = generation;
+    return v;
+  }
+
+ private:
+  std::atomic<std::int64_t> value_{0};
+  std::atomic<std::int64_t> stamp_{opcua::DateTime::from_unix_seconds(1'700'000'000).ticks()};
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<std::uint64_t> sampled_{0};
+};
+
+class CounterServer {
+ public:
+  CounterServer(std::uint16_t port, const std::vector<std::shared_ptr<Counter>>& counters) {
+    opcua::server::ServerConfig config;
+    config.transport.host = "127.0.0.1";
+    config.transport.port = port;
+    config.advertised_host = "127.0.0.1";
+    server_ = std::make_unique<opcua::server::Server>(config);
+    server_->with_address_space([&](opcua::server::AddressSpace& space) {
+      const std::uint16_t ns = space.add_namespace("urn:smartfactory:test:counters");
+      opcua::server::ObjectSpec line;
+      line.node_id = opcua::NodeId(ns, opcua::String("Line"));
+      line.browse_name = opcua::QualifiedName(ns, "Line");
+      line.parent = opcua::NodeId(0, opcua::id::ObjectsFolder);
+      line.reference_type = opcua::NodeId(0, opcua::id::Organizes);
+      (void)space.add_object(line);
+      for (std::size_t i = 0; i < counters.size(); ++i) {
+        opcua::server::VariableSpec v;
+        v.node_id = opcua::NodeId(ns, opcua::String("Line.Counter" + std::to_string(i)));
+        v.browse_name = opcua::QualifiedName(ns, opcua::String("Counter" + std::to_string(i)));
+        v.parent = line.node_id;
+        v.data_type = opcua::NodeId(0, opcua::id::Int64);
+        v.reader = [counter = counters[i]] { return counter->read(); };
+        (void)space.add_variable(v);
+      }
+    });
+    ok_ = server_->start().ok();
+  }
+  [[nodiscard]] bool ok() const { return ok_; }
+  [[nodiscard]] std::uint16_t port() const { return server_->port(); }
+  [[nodiscard]] std::size_t monitored_items() const { return server_->monitored_item_count(); }
+  void stop() { server_->stop(); }
+
+ private:
+  std::unique_ptr<opcua::server::Server> server_;
+  bool ok_ = false;
+};
+
+// Polls pred every few milliseconds until it holds or the timeout passes.
+template <typename Pred>
+bool eventually(Pred pred, std::chrono::seconds timeout = std::chrono::seconds(30)) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (!pred()) {
+    if (std::chrono::steady_clock::now() > until) {
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+}  // namespace sf::cloud::test

@@ -1,0 +1,291 @@
+// The gateway end to end: several OPC UA servers with monotonic counters → gateway → historian
+// (SQLite, and a real PostgreSQL server the test starts). The database must hold every value
+// the servers produced, in order, once — also when the database is killed and restarted and when
+// a server restarts mid-stream.
+#include "sf/cloud/gateway.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "counter_server.hpp"
+#include "pg_server.hpp"
+
+namespace sf::cloud {
+namespace {
+
+using test::Counter;
+using test::CounterServer;
+using test::eventually;
+
+SubscribeRule path_rule(std::string path, unsigned depth = 3) {
+  SubscribeRule rule;
+  rule.browse_path = std::move(path);
+  rule.depth = depth;
+  return rule;
+}
+
+SubscribeRule node_rule(std::string node) {
+  SubscribeRule rule;
+  rule.node = std::move(node);
+  return rule;
+}
+
+ServerConfig server_config(std::string name, std::string url, std::vector<SubscribeRule> rules) {
+  ServerConfig server;
+  server.name = std::move(name);
+  server.url = std::move(url);
+  server.subscribe = std::move(rules);
+  return server;
+}
+
+constexpr std::size_t kServers = 3;
+constexpr std::size_t kCounters = 4;
+
+class TempDir {
+ public:
+  TempDir() {
+    char pattern[] = "/tmp/sf-cloud-test-XXXXXX";
+    path_ = ::mkdtemp(pattern);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+class GatewayEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (std::size_t s = 0; s < kServers; ++s) {
+      std::vector<std::shared_ptr<Counter>> counters;
+      for (std::size_t c = 0; c < kCounters; ++c) {
+        counters.push_back(std::make_shared<Counter>());
+      }
+      counters_.push_back(counters);
+      servers_.push_back(std::make_unique<CounterServer>(0, counters));
+      ASSERT_TRUE(servers_.back()->ok());
+    }
+  }
+
+  GatewayConfig config_for(const std::string& url) {
+    GatewayConfig config;
+    config.historian.url = url;
+    config.historian.buffer = dir_.path() / "buffer";
+    config.historian.batch = 64;
+    config.historian.flush_interval = std::chrono::milliseconds(20);
+    for (std::size_t s = 0; s < kServers; ++s) {
+      ServerConfig server = server_config("line-" + std::to_string(s),
+                                          "opc.tcp://127.0.0.1:" + std::to_string(servers_[s]->port()),
+                                          {path_rule("/Objects/Line", 1)});
+      server.publishing_interval_ms = 20;
+      server.sampling_interval_ms = 10;
+      server.queue_size = 1000;
+      config.servers.push_back(server);
+    }
+    return config;
+  }
+
+  // Every counter to `value`, then wait until each server sampled it.
+  void step(std::int64_t value) {
+    for (auto& server : counters_) {
+      for (auto& counter : server) {
+        counter->set(value);
+      }
+    }
+    ASSERT_TRUE(eventually([&] {
+      for (std::size_t s = 0; s < kServers; ++s) {
+        if (servers_[s] &&
+            !std::all_of(counters_[s].begin(), counters_[s].end(), [](auto& c) { return c->sampled(); })) {
+          return false;
+        }
+      }
+      return true;
+    }));
+  }
+
+  void wait_subscribed(Gateway& gateway) {
+    ASSERT_TRUE(eventually([&] {
+      const auto status = gateway.status();
+      return std::all_of(status.servers.begin(), status.servers.end(), [](const ServerStatus& s) {
+        return s.phase == "subscribed" && s.series == kCounters;
+      });
+    }));
+    for (auto& server : servers_) {
+      ASSERT_TRUE(eventually([&] { return server->monitored_items() == kCounters; }));
+    }
+  }
+
+  // Each series holds 0, 1, ..., last exactly once, in order.
+  void expect_complete(historian::Store& store, std::int64_t last) {
+    auto series = store.list_series();
+    ASSERT_TRUE(series.ok()) << series.error().message;
+    ASSERT_EQ(series->size(), kServers * kCounters);
+    std::vector<std::int64_t> expected;
+    for (std::int64_t v = 0; v <= last; ++v) {
+      expected.push_back(v);
+    }
+    for (const historian::Series& s : *series) {
+      auto samples =
+          store.read_raw(s.id, historian::from_micros(0), historian::from_micros(INT64_MAX / 2), 1'000'000);
+      ASSERT_TRUE(samples.ok()) << samples.error().message;
+      std::vector<std::int64_t> values;
+      for (const historian::Sample& sample : *samples) {
+        values.push_back(std::get<std::int64_t>(sample.value));
+      }
+      std::vector<std::int64_t> missing;
+      std::set_difference(expected.begin(), expected.end(), values.begin(), values.end(),
+                          std::back_inserter(missing));
+      EXPECT_EQ(values, expected) << s.info.server << " " << s.info.browse_path << ": " << values.size()
+                                  << " values, missing " << ::testing::PrintToString(missing);
+    }
+  }
+
+  void wait_written(Gateway& gateway, std::uint64_t samples) {
+    ASSERT_TRUE(eventually([&] { return gateway.status().samples_written >= samples; }))
+        << "written " << gateway.status().samples_written << " of " << samples;
+  }
+
+  TempDir dir_;
+  std::vector<std::vector<std::shared_ptr<Counter>>> counters_;
+  std::vector<std::unique_ptr<CounterServer>> servers_;
+};
+
+TEST_F(GatewayEndToEnd, EveryValueOfEveryServerReachesSqliteInOrder) {
+  auto gateway = Gateway::create(config_for("sqlite:" + (dir_.path() / "history.db").string()));
+  ASSERT_TRUE(gateway.ok()) << gateway.error().message;
+  std::map<std::string, std::size_t> live;
+  auto on = (*gateway)->live().subscribe([&live](const LiveUpdate& u) { ++live[u.series->server]; });
+  ASSERT_TRUE((*gateway)->start().ok());
+  wait_subscribed(**gateway);
+  constexpr std::int64_t kSteps = 40;
+  for (std::int64_t v = 1; v <= kSteps; ++v) {
+    step(v);
+  }
+  wait_written(**gateway, kServers * kCounters * (kSteps + 1));
+  (*gateway)->stop();
+  expect_complete((*gateway)->store(), kSteps);
+  const auto status = (*gateway)->status();
+  EXPECT_EQ(status.samples_received, kServers * kCounters * (kSteps + 1));
+  EXPECT_EQ(status.samples_failed, 0U);
+  // The live bus saw every value too, per server.
+  for (std::size_t s = 0; s < kServers; ++s) {
+    EXPECT_EQ(live["line-" + std::to_string(s)], kCounters * (kSteps + 1));
+  }
+}
+
+class GatewayPostgres : public GatewayEndToEnd {
+ protected:
+  void SetUp() override {
+    if (!historian::testing::PgServer::find_bin_dir()) {
+      GTEST_SKIP() << "PostgreSQL is not installed (scripts/setup installs it)";
+    }
+    GatewayEndToEnd::SetUp();
+    auto pg = historian::testing::PgServer::start();
+    ASSERT_TRUE(pg.ok()) << pg.error().message;
+    pg_ = std::move(*pg);
+  }
+  std::unique_ptr<historian::testing::PgServer> pg_;
+};
+
+TEST_F(GatewayPostgres, EveryValueReachesPostgresql) {
+  auto gateway = Gateway::create(config_for(pg_->url()));
+  ASSERT_TRUE(gateway.ok()) << gateway.error().message;
+  ASSERT_TRUE((*gateway)->start().ok());
+  wait_subscribed(**gateway);
+  constexpr std::int64_t kSteps = 30;
+  for (std::int64_t v = 1; v <= kSteps; ++v) {
+    step(v);
+  }
+  wait_written(**gateway, kServers * kCounters * (kSteps + 1));
+  (*gateway)->stop();
+  expect_complete((*gateway)->store(), kSteps);
+}
+
+// The database dies and comes back, then a server restarts: nothing missing, nothing twice.
+TEST_F(GatewayPostgres, DatabaseAndServerRestartsLoseAndDuplicateNothing) {
+  auto gateway = Gateway::create(config_for(pg_->url()));
+  ASSERT_TRUE(gateway.ok()) << gateway.error().message;
+  historian::Store& store = (*gateway)->store();
+  ASSERT_TRUE((*gateway)->start().ok());
+  wait_subscribed(**gateway);
+  std::int64_t v = 0;
+  for (; v < 15; ++v) {
+    step(v + 1);
+  }
+  ASSERT_TRUE(pg_->kill().ok());
+  for (; v < 30; ++v) {
+    step(v + 1);  // buffered: the database is away
+  }
+  wait_written(**gateway, kServers * kCounters * 31);
+  EXPECT_GT((*gateway)->status().buffer.samples_buffered, 0U);
+  ASSERT_TRUE(pg_->restart().ok());
+  for (; v < 45; ++v) {
+    step(v + 1);
+  }
+  // Server 1 restarts on its port; its counters keep their values, as a device's would.
+  const std::uint16_t port = servers_[1]->port();
+  servers_[1]->stop();
+  servers_[1].reset();
+  ASSERT_TRUE(eventually([&] { return (*gateway)->status().servers[1].phase == "reconnecting"; }));
+  servers_[1] = std::make_unique<CounterServer>(port, counters_[1]);
+  ASSERT_TRUE(servers_[1]->ok());
+  wait_subscribed(**gateway);
+  for (; v < 60; ++v) {
+    step(v + 1);
+  }
+  wait_written(**gateway, kServers * kCounters * 61);
+  ASSERT_TRUE(eventually([&] { return (*gateway)->status().buffer.buffered_records == 0; }));
+  (*gateway)->stop();
+  expect_complete(store, 60);
+}
+
+TEST(GatewayErrors, UnreachableServersAreRetriedWhileOthersWork) {
+  TempDir dir;
+  auto counter = std::make_shared<Counter>();
+  CounterServer good(0, {counter});
+  ASSERT_TRUE(good.ok());
+  GatewayConfig config;
+  config.historian.url = "sqlite:" + (dir.path() / "h.db").string();
+  config.historian.buffer = dir.path() / "buffer";
+  // A rule that matches nothing is a warning, not a failure.
+  config.servers.push_back(server_config("good", "opc.tcp://127.0.0.1:" + std::to_string(good.port()),
+                                         {path_rule("/Objects/Line"), path_rule("/Objects/NoSuchThing")}));
+  // Nothing listens on port 1; a host name that does not resolve.
+  config.servers.push_back(server_config("refused", "opc.tcp://127.0.0.1:1", {node_rule("i=2258")}));
+  config.servers.push_back(
+      server_config("unknown", "opc.tcp://no-such-host.invalid:4840", {node_rule("i=2258")}));
+  auto gateway = Gateway::create(config);
+  ASSERT_TRUE(gateway.ok());
+  ASSERT_TRUE((*gateway)->start().ok());
+  ASSERT_TRUE(eventually([&] {
+    const auto s = (*gateway)->status();
+    return s.servers[0].phase == "subscribed" && !s.servers[1].last_error.empty() &&
+           !s.servers[2].last_error.empty();
+  }));
+  const auto status = (*gateway)->status();
+  EXPECT_EQ(status.servers[0].series, 1U);
+  ASSERT_EQ(status.servers[0].warnings.size(), 1U);
+  EXPECT_NE(status.servers[0].warnings[0].find("NoSuchThing"), std::string::npos);
+  EXPECT_EQ(status.servers[1].phase, "connecting");
+  EXPECT_FALSE(status.servers[1].connected);
+  EXPECT_EQ(status.servers[2].phase, "connecting");
+  counter->set(7);
+  ASSERT_TRUE(eventually([&] { return (*gateway)->status().samples_written >= 2; }));
+  (*gateway)->stop();
+}
+
+TEST(GatewayErrors, AnUnusableHistorianIsRefusedAtCreate) {
+  GatewayConfig config;
+  config.historian.url = "sqlite:/nonexistent/dir/h.db";
+  config.historian.buffer = "/proc/sf-cannot-create-this";
+  auto gateway = Gateway::create(config);
+  ASSERT_FALSE(gateway.ok());
+  EXPECT_NE(gateway.error().message.find("historian"), std::string::npos) << gateway.error().message;
+}
+
+}  // namespace
+}  // namespace sf::cloud

@@ -3,9 +3,12 @@
 reading the history through that server.
 
 1. Every Counter value written on a server reaches the database once, in order (each value is
-   written after the previous one is stored, so the test knows exactly what was produced).
+   written after the previous one is stored, so the test knows exactly what was produced). The
+   servers run with their default security (Sign and SignAndEncrypt only) and the gateway picks
+   the most secure endpoint; all share one PKI folder, as processes of one installation do.
 2. node-opcua reads the same history from the aggregating server, a few values per request,
-   following continuation points.
+   following continuation points (over SecurityPolicy None, which the config asks for); our
+   client reads the aggregated live value over its most secure endpoint.
 3. A bad config is refused with file:line:column; an unreachable server is reported while the
    others work.
 """
@@ -20,22 +23,21 @@ COUNTER = "nsu=urn:smartfactory:demo;s=Demo.Counter"
 
 def start_server(tmp, name):
     server = Background([binary(), "opcua", "server", "--host", "127.0.0.1", "--advertised-host", "127.0.0.1",
-                         "--port", "0", "--demo-model", "--status-interval", "0"] + security_none(),
+                         "--port", "0", "--demo-model", "--status-interval", "0", "--pki", pki(tmp)],
                         log=os.path.join(tmp, f"{name}.log"))
     return server, wait_for_line(server, "listening on ", 20).split()[-1]
 
 
-def security_none():
-    """Asks for SecurityPolicy None where the server defaults to secured endpoints."""
-    help_text = run([binary(), "opcua", "server", "--help"]).stdout
-    return ["--security", "none"] if "--security" in help_text else []
+def pki(tmp):
+    return os.path.join(tmp, "pki")
 
 
 def write_config(tmp, servers, extra=""):
     path = os.path.join(tmp, "cloud.yaml")
     with open(path, "w") as f:
         f.write(f"historian:\n  url: sqlite:{tmp}/history.db\n  buffer: {tmp}/buffer\n  flush_ms: 20\n"
-                "aggregating_server:\n  host: 127.0.0.1\n  port: 0\nservers:\n")
+                f"pki: {pki(tmp)}\n"
+                "aggregating_server:\n  host: 127.0.0.1\n  port: 0\n  security: none,sign,encrypt\nservers:\n")
         for name, url in servers:
             f.write(f"  - name: {name}\n    url: {url}\n    publishing_interval_ms: 50\n"
                     "    sampling_interval_ms: 10\n    subscribe:\n      - browse_path: /Objects/Demo\n"
@@ -64,7 +66,7 @@ def main():
             wait_for(lambda: stored_counter(tmp, "line-a") == [0], 30, "line-a's Counter stored with its first value")
             written = [0]
             for value in range(1, 9):
-                run([binary(), "opcua", "write", url_a, COUNTER, str(value)])
+                run([binary(), "opcua", "write", url_a, COUNTER, str(value), "--pki", pki(tmp)])
                 written.append(value)
                 wait_for(lambda: stored_counter(tmp, "line-a") == written, 30, f"Counter = {value} stored")
             check(stored_counter(tmp, "line-a") == list(range(0, 9)),
@@ -78,6 +80,12 @@ def main():
                   f"node-opcua reads the same history through the aggregating server: {history['values']}")
             check(history["requests"] >= 3, f"three values per request: {history['requests']} requests")
             check(history["historizing"] is True, "the aggregated Counter is Historizing")
+            live = json.loads(run([binary(), "opcua", "read", f"opc.tcp://127.0.0.1:{port}",
+                                   "nsu=urn:smartfactory:cloud;s=line-a/Demo/Counter", "--json",
+                                   "--pki", pki(tmp)]).stdout)
+            check(live[0]["value"] == 8, f"our client reads the aggregated live Counter over a secured channel: {live}")
+            check(f"{url_a}: endpoint Aes256_Sha256_RsaPss SignAndEncrypt" in gateway.output(),
+                  "the gateway connects to the servers over their most secure endpoint")
 
             wait_for(lambda: "line-gone" in gateway.output() and "127.0.0.1:1" in gateway.output(), 30,
                      "the unreachable server is reported")

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "opcua_security.hpp"
 #include "sf/cloud/config.hpp"
 #include "sf/cloud/gateway.hpp"
 
@@ -41,12 +42,51 @@ std::string status_line(const cloud::GatewayStatus& s, double samples_per_s) {
 }
 
 void print_problems(const cloud::GatewayStatus& s) {
+  if (s.discovery && !s.discovery->last_error.empty()) {
+    std::fprintf(stderr, "cloud: discovery %s: %s\n", s.discovery->url.c_str(),
+                 s.discovery->last_error.c_str());
+  }
   for (const auto& server : s.servers) {
     if (!server.connected && !server.last_error.empty()) {
       std::fprintf(stderr, "cloud: %s (%s): %s: %s\n", server.name.c_str(), server.url.c_str(),
                    server.phase.c_str(), server.last_error.c_str());
     }
   }
+}
+
+// Security as the opcua commands apply it (opcua_security.hpp): one PKI folder for the gateway's
+// client certificate, the servers it trusts and the aggregating server's certificate.
+cloud::GatewayOptions security_hooks(const std::string& pki) {
+  const std::string folder = pki.empty() ? default_pki_dir() : pki;
+  cloud::GatewayOptions options;
+  options.configure_client = [folder](const cloud::ServerConfig& server, opcua::ClientConfig& client) {
+    ClientSecurityOptions o;
+    o.pki = folder;
+    o.security = server.security.security;
+    o.user = server.security.user;
+    o.password_file = server.security.password_file;
+    o.user_certificate = server.security.user_certificate;
+    o.user_key = server.security.user_key;
+    return apply_client_security(o, client);
+  };
+  options.configure_aggregating_server = [folder](const cloud::AggregatingServerConfig& aggregating,
+                                                  opcua::server::ServerConfig& server) -> Status {
+    ServerSecurityOptions o;
+    o.pki = folder;
+    o.modes = aggregating.security;
+    if (!aggregating.policies.empty()) {
+      o.policies = aggregating.policies;
+    }
+    o.users = aggregating.users;
+    o.anonymous = aggregating.anonymous;
+    auto applied = apply_server_security(o, false, server);
+    if (!applied) {
+      return applied.error();
+    }
+    std::fprintf(stderr, "cloud: aggregating server %s\n", applied->c_str());
+    return {};
+  };
+  return options;
 }
 
 int run_cloud(const CloudOptions& o) {
@@ -59,7 +99,8 @@ int run_cloud(const CloudOptions& o) {
     config->aggregating_server.enabled = true;
     config->aggregating_server.port = static_cast<std::uint16_t>(o.aggregating_port);
   }
-  auto gateway = cloud::Gateway::create(std::move(*config));
+  const std::string pki = config->pki;
+  auto gateway = cloud::Gateway::create(std::move(*config), security_hooks(pki));
   if (!gateway) {
     std::cerr << "cloud: " << gateway.error().describe() << "\n";
     return kExitFailure;
@@ -131,7 +172,10 @@ void register_cloud(CLI::App& app, CommandResult& result) {
       "    - name: line-1\n"
       "      url: opc.tcp://localhost:4840\n"
       "      subscribe: [{browse_path: /Objects/Demo}]\n"
-      "  aggregating_server: {port: 4850}\n"
+      "      security: auto              # or Basic256Sha256:SignAndEncrypt, none\n"
+      "  discovery: {url: 'opc.tcp://lds:4840', subscribe: [{browse_path: /Objects}]}\n"
+      "  aggregating_server: {port: 4850, security: 'sign,encrypt'}\n"
+      "  pki: DIR                         # default: the one `opcua pki` uses\n"
       "See docs/cloud.md for every setting.");
   cmd->callback([o, &result] { result.exit_code = run_cloud(*o); });
 }

@@ -97,13 +97,17 @@ srv::HistoryRawResult HistorianHistory::read_raw(const srv::HistoryRawQuery& que
   return srv::read_raw_sorted(paged, values);
 }
 
-AggregatingServer::AggregatingServer(const AggregatingServerConfig& config, historian::Store& store)
-    : history_(std::make_shared<HistorianHistory>(store)) {
+srv::ServerConfig AggregatingServer::server_config(const AggregatingServerConfig& config) {
   srv::ServerConfig server_config;
   server_config.transport.host = config.host;
   server_config.transport.port = config.port;
   server_config.identity.application_uri = "urn:smartfactory:cloud:aggregating-server";
   server_config.identity.application_name = "smartfactory cloud aggregating server";
+  return server_config;
+}
+
+AggregatingServer::AggregatingServer(const srv::ServerConfig& server_config, historian::Store& store)
+    : history_(std::make_shared<HistorianHistory>(store)) {
   server_ = std::make_unique<srv::Server>(server_config);
   server_->with_address_space(
       [this](srv::AddressSpace& space) { ns_ = space.add_namespace(kCloudNamespaceUri); });

@@ -32,7 +32,9 @@ class HistorianHistory final : public opcua::server::HistoryDatabase {
 
 class AggregatingServer {
  public:
-  AggregatingServer(const AggregatingServerConfig& config, historian::Store& store);
+  // The server's settings for `config` (address, identity), before security is applied.
+  static opcua::server::ServerConfig server_config(const AggregatingServerConfig& config);
+  AggregatingServer(const opcua::server::ServerConfig& server_config, historian::Store& store);
   ~AggregatingServer();
   AggregatingServer(const AggregatingServer&) = delete;
   AggregatingServer& operator=(const AggregatingServer&) = delete;

@@ -33,25 +33,24 @@ Status only_keys(const Node& node, std::initializer_list<std::string_view> allow
   return {};
 }
 
+// Sets `out` from node[key] when the key is there (a value of the wrong type is an error).
+template <typename T>
+Status read(const Node& node, std::string_view key, T& out) {
+  auto value = node.get_or<T>(key, out);
+  if (!value) {
+    return value.error();
+  }
+  out = std::move(*value);
+  return {};
+}
+
 Result<SubscribeRule> parse_rule(const Node& node) {
   SF_TRY(only_keys(node, {"browse_path", "node", "type", "depth"}));
   SubscribeRule rule;
-  auto browse_path = node.get_or<std::string>("browse_path", "");
-  auto id = node.get_or<std::string>("node", "");
-  auto type = node.get_or<std::string>("type", "");
-  auto depth = node.get_or<unsigned>("depth", 3);
-  for (const auto* r : {&browse_path, &id, &type}) {
-    if (!*r) {
-      return r->error();
-    }
-  }
-  if (!depth) {
-    return depth.error();
-  }
-  rule.browse_path = *browse_path;
-  rule.node = *id;
-  rule.type = *type;
-  rule.depth = *depth;
+  SF_TRY(read(node, "browse_path", rule.browse_path));
+  SF_TRY(read(node, "node", rule.node));
+  SF_TRY(read(node, "type", rule.type));
+  SF_TRY(read(node, "depth", rule.depth));
   const int kinds = int{!rule.browse_path.empty()} + int{!rule.node.empty()} + int{!rule.type.empty()};
   if (kinds != 1) {
     return node.error("a subscribe rule names exactly one of browse_path, node and type");
@@ -65,23 +64,36 @@ Result<SubscribeRule> parse_rule(const Node& node) {
   return rule;
 }
 
+// How to connect (issue 6): security POLICY:MODE, none or auto; a user name with a password file,
+// or a user certificate and key. Checked further by the application that applies it.
+Status parse_connection_security(const Node& node, ConnectionSecurity& out) {
+  SF_TRY(read(node, "security", out.security));
+  SF_TRY(read(node, "user", out.user));
+  SF_TRY(read(node, "password_file", out.password_file));
+  SF_TRY(read(node, "user_certificate", out.user_certificate));
+  SF_TRY(read(node, "user_key", out.user_key));
+  if (!out.password_file.empty() && out.user.empty()) {
+    return node.error("password_file needs a user");
+  }
+  if (!out.user.empty() && out.password_file.empty()) {
+    return node.error("user needs a password_file (the gateway runs unattended)");
+  }
+  if (out.user_certificate.empty() != out.user_key.empty()) {
+    return node.error("user_certificate and user_key go together");
+  }
+  return {};
+}
+
 // The settings a server entry and the discovery defaults share.
 Status parse_subscription_settings(const Node& node, ServerConfig& out) {
-  auto publishing = node.get_or<double>("publishing_interval_ms", out.publishing_interval_ms);
-  auto sampling = node.get_or<double>("sampling_interval_ms", out.sampling_interval_ms);
-  auto queue = node.get_or<std::uint32_t>("queue_size", out.queue_size);
-  auto events = node.get_or<bool>("events", out.events);
-  if (!publishing || !sampling || !queue || !events) {
-    return !publishing ? publishing.error()
-                       : (!sampling ? sampling.error() : (!queue ? queue.error() : events.error()));
-  }
-  if (*publishing <= 0 || *sampling < 0 || *queue == 0) {
+  SF_TRY(read(node, "publishing_interval_ms", out.publishing_interval_ms));
+  SF_TRY(read(node, "sampling_interval_ms", out.sampling_interval_ms));
+  SF_TRY(read(node, "queue_size", out.queue_size));
+  SF_TRY(read(node, "events", out.events));
+  if (out.publishing_interval_ms <= 0 || out.sampling_interval_ms < 0 || out.queue_size == 0) {
     return node.error("publishing_interval_ms > 0, sampling_interval_ms >= 0 and queue_size > 0 are needed");
   }
-  out.publishing_interval_ms = *publishing;
-  out.sampling_interval_ms = *sampling;
-  out.queue_size = *queue;
-  out.events = *events;
+  SF_TRY(parse_connection_security(node, out.security));
   if (node.has("subscribe")) {
     auto list = node.child("subscribe");
     if (!list) {
@@ -113,8 +125,9 @@ Status check_url(const Node& node, const std::string& url) {
 }
 
 Result<ServerConfig> parse_server(const Node& node) {
-  SF_TRY(only_keys(node, {"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size",
-                          "events", "subscribe"}));
+  SF_TRY(only_keys(node,
+                   {"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
+                    "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
   ServerConfig server;
   auto name = node.get<std::string>("name");
   auto url = node.get<std::string>("url");
@@ -136,45 +149,48 @@ Result<ServerConfig> parse_server(const Node& node) {
 
 Status parse_historian(const Node& node, HistorianConfig& out) {
   SF_TRY(only_keys(node, {"url", "buffer", "batch", "flush_ms"}));
-  auto url = node.get_or<std::string>("url", out.url);
-  auto buffer = node.get_or<std::string>("buffer", out.buffer.string());
-  auto batch = node.get_or<std::size_t>("batch", out.batch);
-  auto flush = node.get_or<std::int64_t>("flush_ms", out.flush_interval.count());
-  if (!url || !buffer || !batch || !flush) {
-    return !url ? url.error() : (!buffer ? buffer.error() : (!batch ? batch.error() : flush.error()));
+  SF_TRY(read(node, "url", out.url));
+  std::string buffer = out.buffer.string();
+  SF_TRY(read(node, "buffer", buffer));
+  out.buffer = buffer;
+  SF_TRY(read(node, "batch", out.batch));
+  auto flush = out.flush_interval.count();
+  SF_TRY(read(node, "flush_ms", flush));
+  out.flush_interval = std::chrono::milliseconds(flush);
+  if (!out.url.starts_with("sqlite:") && !out.url.starts_with("postgresql://") &&
+      !out.url.starts_with("postgres://")) {
+    return node.error(fmt::format("historian url '{}' is neither sqlite:PATH nor postgresql://...", out.url));
   }
-  if (!url->starts_with("sqlite:") && !url->starts_with("postgresql://") &&
-      !url->starts_with("postgres://")) {
-    return node.error(fmt::format("historian url '{}' is neither sqlite:PATH nor postgresql://...", *url));
-  }
-  if (*batch == 0 || *flush <= 0) {
+  if (out.batch == 0 || flush <= 0) {
     return node.error("batch and flush_ms must be positive");
   }
-  out.url = *url;
-  out.buffer = *buffer;
-  out.batch = *batch;
-  out.flush_interval = std::chrono::milliseconds(*flush);
   return {};
 }
 
 Status parse_aggregating(const Node& node, AggregatingServerConfig& out) {
-  SF_TRY(only_keys(node, {"host", "port", "enabled"}));
-  auto host = node.get_or<std::string>("host", out.host);
-  auto port = node.get_or<std::uint16_t>("port", out.port);
-  auto enabled = node.get_or<bool>("enabled", true);
-  if (!host || !port || !enabled) {
-    return !host ? host.error() : (!port ? port.error() : enabled.error());
-  }
-  out.host = *host;
-  out.port = *port;
-  out.enabled = *enabled;
+  SF_TRY(only_keys(node, {"host", "port", "enabled", "security", "policies", "users", "anonymous"}));
+  out.enabled = true;
+  SF_TRY(read(node, "host", out.host));
+  SF_TRY(read(node, "port", out.port));
+  SF_TRY(read(node, "enabled", out.enabled));
+  SF_TRY(read(node, "security", out.security));
+  SF_TRY(read(node, "policies", out.policies));
+  SF_TRY(read(node, "users", out.users));
+  SF_TRY(read(node, "anonymous", out.anonymous));
   return {};
 }
 
 Result<DiscoveryConfig> parse_discovery(const Node& node) {
   SF_TRY(only_keys(
-      node, {"url", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events", "subscribe"}));
+      node, {"url", "interval_s", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
+             "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
   DiscoveryConfig discovery;
+  auto interval = discovery.interval.count();
+  SF_TRY(read(node, "interval_s", interval));
+  if (interval <= 0) {
+    return node.error("interval_s must be positive");
+  }
+  discovery.interval = std::chrono::seconds(interval);
   auto url = node.get<std::string>("url");
   if (!url) {
     return url.error();
@@ -186,8 +202,9 @@ Result<DiscoveryConfig> parse_discovery(const Node& node) {
 }
 
 Result<GatewayConfig> parse_root(const Node& root) {
-  SF_TRY(only_keys(root, {"historian", "servers", "discovery", "aggregating_server"}));
+  SF_TRY(only_keys(root, {"historian", "servers", "discovery", "aggregating_server", "pki"}));
   GatewayConfig config;
+  SF_TRY(read(root, "pki", config.pki));
   if (root.has("historian")) {
     SF_TRY(parse_historian(*root.child("historian"), config.historian));
   }

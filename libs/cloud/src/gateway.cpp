@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <mutex>
+
 #include "aggregating_server.hpp"
 #include "sample_writer.hpp"
+#include "server_discovery.hpp"
 #include "server_link.hpp"
 #include "sf/core/log.hpp"
 
@@ -11,28 +14,37 @@ namespace sf::cloud {
 
 struct Gateway::Impl {
   GatewayConfig config;
+  GatewayOptions options;
   LiveBus bus;
   std::unique_ptr<historian::BufferedStore> store;
   std::unique_ptr<detail::SampleWriter> writer;
   std::unique_ptr<detail::AggregatingServer> aggregating;
   LiveBus::Subscription to_aggregating;
+  std::function<void(const historian::Series&)> on_series;
+  std::unique_ptr<detail::ServerDiscovery> discovery;
+  mutable std::mutex links_mutex;  // discovery adds links while status() reads them
   std::vector<std::unique_ptr<detail::ServerLink>> links;
   bool started = false;
+
+  Status start_aggregating();
+  // A link for `server` with the client settings the hook made; not started.
+  Result<std::unique_ptr<detail::ServerLink>> make_link(const ServerConfig& server);
+  void add_discovered(const ServerConfig& server);
 };
 
-Result<std::unique_ptr<Gateway>> Gateway::create(GatewayConfig config, Clock& clock,
-                                                 CommitObserver on_commit) {
+Result<std::unique_ptr<Gateway>> Gateway::create(GatewayConfig config, GatewayOptions options) {
   auto impl = std::make_unique<Impl>();
   historian::BufferOptions buffer;
   buffer.directory = config.historian.buffer;
-  auto store = historian::BufferedStore::open(config.historian.url, buffer, clock);
+  auto store = historian::BufferedStore::open(config.historian.url, buffer, *options.clock);
   if (!store) {
     return store.error().with_context(fmt::format("historian {}", config.historian.url));
   }
   impl->store = std::move(*store);
-  impl->writer = std::make_unique<detail::SampleWriter>(
-      *impl->store, config.historian.batch, config.historian.flush_interval, std::move(on_commit));
+  impl->writer = std::make_unique<detail::SampleWriter>(*impl->store, config.historian.batch,
+                                                        config.historian.flush_interval, options.on_commit);
   impl->config = std::move(config);
+  impl->options = std::move(options);
   return std::unique_ptr<Gateway>(new Gateway(std::move(impl)));
 }
 
@@ -42,44 +54,109 @@ Gateway::~Gateway() {
   stop();
 }
 
+Status Gateway::Impl::start_aggregating() {
+  auto server_config = detail::AggregatingServer::server_config(config.aggregating_server);
+  if (options.configure_aggregating_server) {
+    SF_TRY(options.configure_aggregating_server(config.aggregating_server, server_config));
+  }
+  aggregating = std::make_unique<detail::AggregatingServer>(server_config, *store);
+  if (auto st = aggregating->start(); !st) {
+    aggregating.reset();
+    return st;
+  }
+  to_aggregating = bus.subscribe([server = aggregating.get()](const LiveUpdate& u) { server->update(u); });
+  on_series = [server = aggregating.get()](const historian::Series& s) { server->add_series(s); };
+  // Series known from earlier runs have history already: show them from the start.
+  if (auto known = store->list_series()) {
+    for (const historian::Series& s : *known) {
+      aggregating->add_series(s);
+    }
+  }
+  return {};
+}
+
+Result<std::unique_ptr<detail::ServerLink>> Gateway::Impl::make_link(const ServerConfig& server) {
+  auto client = detail::ServerLink::client_config(server);
+  if (options.configure_client) {
+    if (auto st = options.configure_client(server, client); !st) {
+      return st.error().with_context(fmt::format("server {}", server.name));
+    }
+  }
+  return std::make_unique<detail::ServerLink>(server, std::move(client), *store, *writer, bus, on_series);
+}
+
+void Gateway::Impl::add_discovered(const ServerConfig& server) {
+  auto link = make_link(server);
+  if (!link) {
+    log::get("cloud")->error("{}", link.error().message);
+    return;
+  }
+  std::lock_guard lock(links_mutex);
+  if (!started) {
+    return;
+  }
+  links.push_back(std::move(*link));
+  links.back()->start();
+}
+
 Status Gateway::start() {
-  if (impl_->started) {
+  Impl& g = *impl_;
+  if (g.started) {
     return {};
   }
-  Impl& g = *impl_;
-  std::function<void(const historian::Series&)> on_series;
   if (g.config.aggregating_server.enabled) {
-    g.aggregating = std::make_unique<detail::AggregatingServer>(g.config.aggregating_server, *g.store);
-    if (auto st = g.aggregating->start(); !st) {
-      g.aggregating.reset();
+    if (auto st = g.start_aggregating(); !st) {
       return st.error().with_context("aggregating server");
     }
-    g.to_aggregating =
-        g.bus.subscribe([server = g.aggregating.get()](const LiveUpdate& u) { server->update(u); });
-    on_series = [server = g.aggregating.get()](const historian::Series& s) { server->add_series(s); };
-    // Series known from earlier runs have history already: show them from the start.
-    if (auto known = g.store->list_series()) {
-      for (const historian::Series& s : *known) {
-        g.aggregating->add_series(s);
-      }
-    }
   }
+  std::vector<std::unique_ptr<detail::ServerLink>> links;
   for (const ServerConfig& server : g.config.servers) {
-    g.links.push_back(std::make_unique<detail::ServerLink>(server, *g.store, *g.writer, g.bus, on_series));
+    auto link = g.make_link(server);
+    if (!link) {
+      return link.error();
+    }
+    links.push_back(std::move(*link));
   }
-  for (auto& link : g.links) {
-    link->start();
+  {
+    std::lock_guard lock(g.links_mutex);
+    g.links = std::move(links);
+    for (auto& link : g.links) {
+      link->start();
+    }
+    g.started = true;
   }
-  g.started = true;
+  if (g.config.discovery) {
+    std::set<std::string> urls;
+    std::set<std::string> names;
+    for (const ServerConfig& server : g.config.servers) {
+      urls.insert(server.url);
+      names.insert(server.name);
+    }
+    g.discovery = std::make_unique<detail::ServerDiscovery>(
+        *g.config.discovery, std::move(urls), std::move(names),
+        [&g](const ServerConfig& server) { g.add_discovered(server); });
+    g.discovery->start();
+  }
   log::get("cloud")->info(
-      "gateway started: {} servers, historian {}{}", g.links.size(), g.config.historian.url,
+      "gateway started: {} servers{}, historian {}{}", g.config.servers.size(),
+      g.discovery ? fmt::format(" + discovery at {}", g.config.discovery->url) : "", g.config.historian.url,
       g.aggregating ? fmt::format(", aggregating server on port {}", g.aggregating->port()) : "");
   return {};
 }
 
 void Gateway::stop() {
   Impl& g = *impl_;
-  for (auto& link : g.links) {
+  if (g.discovery) {
+    g.discovery->stop();
+  }
+  std::vector<std::unique_ptr<detail::ServerLink>> links;
+  {
+    std::lock_guard lock(g.links_mutex);
+    g.started = false;
+    links = std::move(g.links);
+    g.links.clear();
+  }
+  for (auto& link : links) {
     link->stop();
   }
   g.writer->stop();
@@ -87,14 +164,22 @@ void Gateway::stop() {
   if (g.aggregating) {
     g.aggregating->stop();
   }
-  g.started = false;
+  // Status after stop still lists the servers.
+  std::lock_guard lock(g.links_mutex);
+  g.links = std::move(links);
 }
 
 GatewayStatus Gateway::status() const {
   const Impl& g = *impl_;
   GatewayStatus s;
-  for (const auto& link : g.links) {
-    s.servers.push_back(link->status());
+  {
+    std::lock_guard lock(g.links_mutex);
+    for (const auto& link : g.links) {
+      s.servers.push_back(link->status());
+    }
+  }
+  if (g.discovery) {
+    s.discovery = g.discovery->status();
   }
   const detail::WriterStats w = g.writer->stats();
   s.samples_received = w.samples_received;

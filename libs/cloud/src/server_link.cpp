@@ -30,18 +30,23 @@ const T* field(const std::vector<ua::Variant>& fields, std::size_t i) {
 
 }  // namespace
 
-ServerLink::ServerLink(ServerConfig config, historian::Store& store, SampleWriter& writer, LiveBus& bus,
+ua::ClientConfig ServerLink::client_config(const ServerConfig& config) {
+  ua::ClientConfig client;
+  client.endpoint_url = config.url;
+  client.session_name = fmt::format("smartfactory cloud gateway ({})", config.name);
+  client.application_uri = "urn:smartfactory:cloud:gateway";
+  client.request_timeout = 10s;
+  return client;
+}
+
+ServerLink::ServerLink(ServerConfig config, ua::ClientConfig client, historian::Store& store,
+                       SampleWriter& writer, LiveBus& bus,
                        std::function<void(const historian::Series&)> on_series)
     : config_(std::move(config)),
       store_(store),
       writer_(writer),
       bus_(bus),
       on_series_(std::move(on_series)) {
-  ua::ClientConfig client;
-  client.endpoint_url = config_.url;
-  client.session_name = fmt::format("smartfactory cloud gateway ({})", config_.name);
-  client.application_uri = "urn:smartfactory:cloud:gateway";
-  client.request_timeout = 10s;
   client_ = std::make_unique<ua::SyncClient>(std::move(client));
   client_->set_on_state([this](ua::ClientState state, const Status& why) {
     client_state_ = static_cast<int>(state);

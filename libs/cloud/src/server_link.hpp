@@ -26,8 +26,11 @@ namespace sf::cloud::detail {
 class ServerLink {
  public:
   // on_series: each series once it is registered (the aggregating server adds its node).
-  ServerLink(ServerConfig config, historian::Store& store, SampleWriter& writer, LiveBus& bus,
-             std::function<void(const historian::Series&)> on_series);
+  // client: the connection settings (endpoint, security, user) made from config.
+  ServerLink(ServerConfig config, opcua::ClientConfig client, historian::Store& store, SampleWriter& writer,
+             LiveBus& bus, std::function<void(const historian::Series&)> on_series);
+  // The client settings of `config` before security is applied.
+  static opcua::ClientConfig client_config(const ServerConfig& config);
   ~ServerLink();
   ServerLink(const ServerLink&) = delete;
   ServerLink& operator=(const ServerLink&) = delete;

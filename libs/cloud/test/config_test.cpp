@@ -23,15 +23,24 @@ servers:
       - browse_path: /Objects/Demo
         depth: 2
       - node: nsu=urn:smartfactory:demo;s=Demo.Counter
+    security: Aes256_Sha256_RsaPss:Sign
+    user: gateway
+    password_file: /etc/sf/gateway.pw
   - name: line-2
     url: opc.tcp://10.0.0.6:4840
     subscribe:
       - type: nsu=urn:example;i=1000
 discovery:
   url: opc.tcp://lds:4840
+  interval_s: 5
+  security: none
   subscribe: [{browse_path: /Objects}]
 aggregating_server:
   port: 4850
+  security: encrypt
+  users: /etc/sf/users.yaml
+  anonymous: "off"
+pki: /var/lib/sf/pki
 )";
 
 TEST(GatewayConfig, ReadsEverySetting) {
@@ -54,11 +63,21 @@ TEST(GatewayConfig, ReadsEverySetting) {
   EXPECT_EQ(line1.subscribe[1].node, "nsu=urn:smartfactory:demo;s=Demo.Counter");
   EXPECT_EQ(config->servers[1].subscribe[0].type, "nsu=urn:example;i=1000");
   EXPECT_EQ(config->servers[1].publishing_interval_ms, 100.0);  // default
+  EXPECT_EQ(line1.security.security, "Aes256_Sha256_RsaPss:Sign");
+  EXPECT_EQ(line1.security.user, "gateway");
+  EXPECT_EQ(line1.security.password_file, "/etc/sf/gateway.pw");
+  EXPECT_EQ(config->servers[1].security.security, "auto");  // secure by default
   ASSERT_TRUE(config->discovery.has_value());
   EXPECT_EQ(config->discovery->url, "opc.tcp://lds:4840");
   EXPECT_EQ(config->discovery->defaults.subscribe[0].browse_path, "/Objects");
+  EXPECT_EQ(config->discovery->interval.count(), 5);
+  EXPECT_EQ(config->discovery->defaults.security.security, "none");
   EXPECT_TRUE(config->aggregating_server.enabled);
   EXPECT_EQ(config->aggregating_server.port, 4850);
+  EXPECT_EQ(config->aggregating_server.security, "encrypt");
+  EXPECT_EQ(config->aggregating_server.users, "/etc/sf/users.yaml");
+  EXPECT_EQ(config->aggregating_server.anonymous, "off");
+  EXPECT_EQ(config->pki, "/var/lib/sf/pki");
 }
 
 struct Bad {
@@ -72,6 +91,9 @@ TEST(GatewayConfig, MistakesNameTheirPlace) {
       {"servers:\n  - name: a\n    url: opc.tcp://x:4840\n    subscribe: [{node: i=85}]\n    sampling: 5\n",
        "unknown setting 'sampling'"},
       {"servers:\n  - name: a\n    url: opc.tcp://x:4840\n", "nothing to collect"},
+      {"servers:\n  - {name: a, url: 'opc.tcp://x:1', subscribe: [{node: i=85}], user: u}\n",
+       "password_file"},
+      {"discovery: {url: 'opc.tcp://x:1', interval_s: 0, subscribe: [{node: i=85}]}\n", "interval_s"},
       {"servers:\n  - url: opc.tcp://x:4840\n    subscribe: [{node: i=85}]\n", "name"},
       {"servers:\n  - name: a\n    url: opc.tcp://x:4840\n    subscribe: [{node: i=85, type: i=58}]\n",
        "exactly one of"},

@@ -7,11 +7,14 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "sf/cloud/config.hpp"
 #include "sf/opcua/server/server.hpp"
 
 namespace sf::cloud::test {
@@ -37,6 +40,41 @@ class Counter {
   std::atomic<std::int64_t> stamp_{opcua::DateTime::from_unix_seconds(1'700'000'000).ticks()};
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<std::uint64_t> sampled_{0};
+};
+
+inline SubscribeRule path_rule(std::string path, unsigned depth = 3) {
+  SubscribeRule rule;
+  rule.browse_path = std::move(path);
+  rule.depth = depth;
+  return rule;
+}
+
+inline SubscribeRule node_rule(std::string node) {
+  SubscribeRule rule;
+  rule.node = std::move(node);
+  return rule;
+}
+
+inline ServerConfig server_config(std::string name, std::string url, std::vector<SubscribeRule> rules) {
+  ServerConfig server;
+  server.name = std::move(name);
+  server.url = std::move(url);
+  server.subscribe = std::move(rules);
+  return server;
+}
+
+// A temporary directory, removed with what it holds.
+class TempDir {
+ public:
+  TempDir() {
+    char pattern[] = "/tmp/sf-cloud-test-XXXXXX";
+    path_ = ::mkdtemp(pattern);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
 };
 
 class CounterServer {

@@ -19,43 +19,13 @@ namespace {
 using test::Counter;
 using test::CounterServer;
 using test::eventually;
-
-SubscribeRule path_rule(std::string path, unsigned depth = 3) {
-  SubscribeRule rule;
-  rule.browse_path = std::move(path);
-  rule.depth = depth;
-  return rule;
-}
-
-SubscribeRule node_rule(std::string node) {
-  SubscribeRule rule;
-  rule.node = std::move(node);
-  return rule;
-}
-
-ServerConfig server_config(std::string name, std::string url, std::vector<SubscribeRule> rules) {
-  ServerConfig server;
-  server.name = std::move(name);
-  server.url = std::move(url);
-  server.subscribe = std::move(rules);
-  return server;
-}
+using test::node_rule;
+using test::path_rule;
+using test::server_config;
+using test::TempDir;
 
 constexpr std::size_t kServers = 3;
 constexpr std::size_t kCounters = 4;
-
-class TempDir {
- public:
-  TempDir() {
-    char pattern[] = "/tmp/sf-cloud-test-XXXXXX";
-    path_ = ::mkdtemp(pattern);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 class GatewayEndToEnd : public ::testing::Test {
  protected:

@@ -107,6 +107,13 @@ void Client::get_endpoints(std::function<void(Result<std::vector<EndpointDescrip
           [done = std::move(done)](Impl& impl) mutable { impl.get_endpoints(std::move(done)); });
 }
 
+void Client::find_servers(std::vector<std::string> server_uris,
+                          std::function<void(Result<std::vector<ApplicationDescription>>)> done) {
+  post_to(loop_, impl_, [uris = std::move(server_uris), done = std::move(done)](Impl& impl) mutable {
+    impl.find_servers(std::move(uris), std::move(done));
+  });
+}
+
 void Client::create_subscription(SubscriptionParams params,
                                  std::function<void(Result<SubscriptionId>)> done) {
   post_to(loop_, impl_, [params, done = std::move(done)](Impl& impl) mutable {

@@ -47,6 +47,7 @@ struct ResponseOf;
     using type = Name##Response;     \
   };
 SF_OPCUA_CLIENT_PAIR(GetEndpoints)
+SF_OPCUA_CLIENT_PAIR(FindServers)
 SF_OPCUA_CLIENT_PAIR(CreateSession)
 SF_OPCUA_CLIENT_PAIR(ActivateSession)
 SF_OPCUA_CLIENT_PAIR(CloseSession)
@@ -200,6 +201,10 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   void browse_next(ByteString continuation_point, std::vector<ReferenceDescription> collected,
                    std::function<void(Result<std::vector<ReferenceDescription>>)> done);
   void get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done);
+  void find_servers(std::vector<std::string> server_uris,
+                    std::function<void(Result<std::vector<ApplicationDescription>>)> done);
+  template <typename Response, typename Request>
+  void discovery_request(Request request, std::function<void(Result<Response>)> finish);
 
   // ---- security (secure_session.cpp) ----
   // Policy None/None and no discovery: what issue 5's client did.

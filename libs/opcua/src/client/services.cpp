@@ -186,19 +186,10 @@ void Client::Impl::call(std::vector<CallMethodRequest> methods,
   });
 }
 
-// GetEndpoints needs no session (OPC 10000-4 §5.4.4): on the session's channel when there is
-// one, otherwise on a channel opened for this request and closed after it.
-void Client::Impl::get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done) {
-  GetEndpointsRequest request;
-  request.endpoint_url = config.endpoint_url;
-  auto finish = [done](Result<GetEndpointsResponse> response) {
-    if (!response) {
-      done(client_detail::error_of(response));
-      return;
-    }
-    done(std::vector<EndpointDescription>(std::make_move_iterator(response->endpoints.begin()),
-                                          std::make_move_iterator(response->endpoints.end())));
-  };
+// The discovery services need no session (OPC 10000-4 §5.4): on the session's channel when there
+// is one, otherwise on a channel opened for this request and closed after it.
+template <typename Response, typename Request>
+void Client::Impl::discovery_request(Request request, std::function<void(Result<Response>)> finish) {
   if (channel && state == ClientState::Connected) {
     send(std::move(request), std::move(finish));
     return;
@@ -207,38 +198,68 @@ void Client::Impl::get_endpoints(std::function<void(Result<std::vector<EndpointD
   transport.endpoint_url = config.endpoint_url;
   transport.limits = config.limits;
   transport.connect_timeout = config.request_timeout;
-  ClientChannel::open(loop, std::move(transport),
-                      [weak = weak_from_this(), request = std::move(request),
-                       finish = std::move(finish)](Result<std::shared_ptr<ClientChannel>> opened) mutable {
-                        auto self = weak.lock();
-                        if (!opened) {
-                          if (self && !self->shut_down) {
-                            finish(client_detail::error_of(opened));
-                          }
-                          return;
-                        }
-                        std::shared_ptr<ClientChannel> temporary = std::move(*opened);
-                        if (!self || self->shut_down) {
-                          temporary->close();
-                          return;
-                        }
-                        request.request_header = self->make_header(self->config.request_timeout);
-                        request.request_header.authentication_token = NodeId();
-                        temporary->send_request(
-                            Message(std::move(request)), self->config.request_timeout,
-                            [weak, temporary, finish = std::move(finish)](Result<Message> message) mutable {
-                              auto s = weak.lock();
-                              // Close after this callback returns, not from inside the channel.
-                              if (s) {
-                                s->loop.post([temporary]() { temporary->close(); });
-                              }
-                              if (!s || s->shut_down) {
-                                return;
-                              }
-                              finish(client_detail::unwrap_response<GetEndpointsResponse>(std::move(message),
-                                                                                          "GetEndpoints"));
-                            });
-                      });
+  ClientChannel::open(
+      loop, std::move(transport),
+      [weak = weak_from_this(), request = std::move(request),
+       finish = std::move(finish)](Result<std::shared_ptr<ClientChannel>> opened) mutable {
+        auto self = weak.lock();
+        if (!opened) {
+          if (self && !self->shut_down) {
+            finish(client_detail::error_of(opened));
+          }
+          return;
+        }
+        std::shared_ptr<ClientChannel> temporary = std::move(*opened);
+        if (!self || self->shut_down) {
+          temporary->close();
+          return;
+        }
+        request.request_header = self->make_header(self->config.request_timeout);
+        request.request_header.authentication_token = NodeId();
+        temporary->send_request(
+            Message(std::move(request)), self->config.request_timeout,
+            [weak, temporary, finish = std::move(finish)](Result<Message> message) mutable {
+              auto s = weak.lock();
+              // Close after this callback returns, not from inside the channel.
+              if (s) {
+                s->loop.post([temporary]() { temporary->close(); });
+              }
+              if (!s || s->shut_down) {
+                return;
+              }
+              finish(client_detail::unwrap_response<Response>(std::move(message), Request::kTypeName));
+            });
+      });
+}
+
+void Client::Impl::get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done) {
+  GetEndpointsRequest request;
+  request.endpoint_url = config.endpoint_url;
+  discovery_request<GetEndpointsResponse>(std::move(request), [done](Result<GetEndpointsResponse> response) {
+    if (!response) {
+      done(client_detail::error_of(response));
+      return;
+    }
+    done(std::vector<EndpointDescription>(std::make_move_iterator(response->endpoints.begin()),
+                                          std::make_move_iterator(response->endpoints.end())));
+  });
+}
+
+void Client::Impl::find_servers(std::vector<std::string> server_uris,
+                                std::function<void(Result<std::vector<ApplicationDescription>>)> done) {
+  FindServersRequest request;
+  request.endpoint_url = config.endpoint_url;
+  for (auto& uri : server_uris) {
+    request.server_uris.push_back(String(std::move(uri)));
+  }
+  discovery_request<FindServersResponse>(std::move(request), [done](Result<FindServersResponse> response) {
+    if (!response) {
+      done(client_detail::error_of(response));
+      return;
+    }
+    done(std::vector<ApplicationDescription>(std::make_move_iterator(response->servers.begin()),
+                                             std::make_move_iterator(response->servers.end())));
+  });
 }
 
 }  // namespace sf::opcua

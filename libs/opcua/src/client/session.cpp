@@ -144,6 +144,9 @@ void Client::Impl::open_channel() {
       return;
     }
     endpoint = std::move(*found);
+    const std::string_view policy = endpoint->security_policy_uri.view();
+    logger->info("opcua client {}: endpoint {} {}", config.endpoint_url, policy.substr(policy.rfind('#') + 1),
+                 to_string(endpoint->security_mode));
     open_transport(generation, transport_config());
   });
 }

@@ -86,6 +86,11 @@ Result<std::vector<EndpointDescription>> SyncClient::get_endpoints() {
       [&](auto done) { client_->get_endpoints(std::move(done)); });
 }
 
+Result<std::vector<ApplicationDescription>> SyncClient::find_servers(std::vector<std::string> server_uris) {
+  return wait_for<Result<std::vector<ApplicationDescription>>>(
+      [&](auto done) { client_->find_servers(std::move(server_uris), std::move(done)); });
+}
+
 Result<std::vector<DataValue>> SyncClient::history_read_raw(const NodeId& node, HistoryRawParams params) {
   return wait_for<Result<std::vector<DataValue>>>(
       [&](auto done) { client_->history_read_raw(node, params, std::move(done)); });

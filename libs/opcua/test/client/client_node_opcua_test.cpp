@@ -180,6 +180,23 @@ TEST_F(NodeOpcuaTest, GetsEndpointsWithAndWithoutSession) {
   EXPECT_EQ(again->size(), endpoints->size());
 }
 
+// FindServers on a channel of its own (OPC 10000-4 §5.4.2): node-opcua's server describes itself
+// with a discovery URL a client can connect to.
+TEST_F(NodeOpcuaTest, FindsTheServerWithoutASession) {
+  SyncClient unconnected(config_for(server_->url()));
+  auto servers = unconnected.find_servers();
+  ASSERT_TRUE(servers.ok()) << servers.error().describe();
+  ASSERT_EQ(servers->size(), 1U);
+  const ApplicationDescription& server = servers->front();
+  EXPECT_EQ(server.application_type, ApplicationType::Server);
+  EXPECT_FALSE(server.application_uri.view().empty());
+  ASSERT_FALSE(server.discovery_urls.empty());
+  EXPECT_TRUE(server.discovery_urls.front().view().starts_with("opc.tcp://"));
+  auto none = unconnected.find_servers({"urn:nobody:here"});
+  ASSERT_TRUE(none.ok()) << none.error().describe();
+  EXPECT_TRUE(none->empty());
+}
+
 TEST_F(NodeOpcuaTest, SubscribesToTemperature) {
   auto subscription = client_->create_subscription({.publishing_interval_ms = 100});
   ASSERT_TRUE(subscription.ok()) << subscription.error().describe();

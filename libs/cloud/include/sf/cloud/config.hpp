@@ -14,6 +14,9 @@
 //       sampling_interval_ms: 100
 //       queue_size: 10
 //       events: true                                  # events of the Server object
+//       security: Basic256Sha256:SignAndEncrypt       # or auto (the most secure offered), none
+//       user: gateway                                 # UserName login (default: anonymous)
+//       password_file: /etc/smartfactory/gateway.pw   #   or user_certificate + user_key
 //       subscribe:
 //         - browse_path: /Objects/Demo                # the Variables below a node (depth levels)
 //           depth: 3
@@ -21,9 +24,14 @@
 //         - type: nsu=urn:example;i=1000              # every instance of an ObjectType
 //   discovery:                                        # more servers, found with FindServers
 //     url: opc.tcp://lds:4840
-//     subscribe: [{browse_path: /Objects}]
+//     interval_s: 30                                  # asked again this often for new servers
+//     subscribe: [{browse_path: /Objects}]            # + the settings of a server entry
 //   aggregating_server:
 //     port: 4850
+//     security: sign,encrypt                          # none, sign, encrypt (a comma list)
+//     users: /etc/smartfactory/users.yaml             # UserName/X509 users and roles
+//     anonymous: viewer                               # the role of anonymous users, or off
+//   pki: /var/lib/smartfactory/pki                    # own certificate and trust lists
 #pragma once
 
 #include <chrono>
@@ -51,6 +59,16 @@ struct SubscribeRule {
   unsigned depth = 3;
 };
 
+// How the gateway connects to a server (issue 6). The gateway hands these to
+// GatewayOptions::configure_client; `smartfactory cloud` applies them with its PKI folder.
+struct ConnectionSecurity {
+  std::string security = "auto";  // POLICY:MODE (e.g. Basic256Sha256:SignAndEncrypt), none, auto
+  std::string user;               // UserName login, password from password_file
+  std::string password_file;
+  std::string user_certificate;  // X509 login
+  std::string user_key;
+};
+
 struct ServerConfig {
   std::string name;  // unique; the series' server key and the folder of the aggregating server
   std::string url;   // opc.tcp://host:port[/path]
@@ -59,6 +77,7 @@ struct ServerConfig {
   std::uint32_t queue_size = 10;
   bool events = false;
   std::vector<SubscribeRule> subscribe;
+  ConnectionSecurity security;
 };
 
 struct HistorianConfig {
@@ -70,6 +89,7 @@ struct HistorianConfig {
 
 struct DiscoveryConfig {
   std::string url;
+  std::chrono::seconds interval{30};
   // What to subscribe to on every server FindServers returns (name: its ApplicationUri).
   ServerConfig defaults;
 };
@@ -78,6 +98,12 @@ struct AggregatingServerConfig {
   bool enabled = false;
   std::string host = "0.0.0.0";
   std::uint16_t port = 4850;
+  // Applied by GatewayOptions::configure_aggregating_server (smartfactory cloud: as `opcua server`
+  // --security, --policies, --users, --anonymous; empty policies: all three).
+  std::string security = "sign,encrypt";
+  std::string policies;
+  std::string users;
+  std::string anonymous;
 };
 
 struct GatewayConfig {
@@ -85,6 +111,7 @@ struct GatewayConfig {
   std::optional<DiscoveryConfig> discovery;
   HistorianConfig historian;
   AggregatingServerConfig aggregating_server;
+  std::string pki;  // the PKI folder; empty: the installation's default
 };
 
 Result<GatewayConfig> load_gateway_config(const std::filesystem::path& file);

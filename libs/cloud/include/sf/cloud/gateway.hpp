@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,8 @@
 #include "sf/cloud/live_bus.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/historian/buffered_store.hpp"
+#include "sf/opcua/client/client.hpp"
+#include "sf/opcua/server/server.hpp"
 
 namespace sf::cloud {
 
@@ -38,8 +41,15 @@ struct ServerStatus {
   std::vector<std::string> warnings;  // rules that matched nothing, ...
 };
 
+struct DiscoveryStatus {
+  std::string url;
+  std::size_t found = 0;  // servers added from FindServers answers
+  std::string last_error;
+};
+
 struct GatewayStatus {
   std::vector<ServerStatus> servers;
+  std::optional<DiscoveryStatus> discovery;
   std::uint64_t samples_received = 0;
   std::uint64_t samples_written = 0;
   std::uint64_t samples_failed = 0;
@@ -52,15 +62,26 @@ struct GatewayStatus {
 // Called after each batch the historian accepted (latency measurements).
 using CommitObserver = std::function<void(std::span<const historian::Sample>)>;
 
+// The gateway's seams. Security is provisioned by the application (certificates, PKI folder,
+// passwords): the library hands each connection's and the aggregating server's configuration to
+// these hooks, whose error stops start() (a bad setting) or that server only (a discovered one).
+struct GatewayOptions {
+  Clock* clock = &SteadyClock::instance();
+  CommitObserver on_commit;
+  std::function<Status(const ServerConfig&, opcua::ClientConfig&)> configure_client;
+  std::function<Status(const AggregatingServerConfig&, opcua::server::ServerConfig&)>
+      configure_aggregating_server;
+};
+
 class Gateway {
  public:
-  static Result<std::unique_ptr<Gateway>> create(GatewayConfig config, Clock& clock = SteadyClock::instance(),
-                                                 CommitObserver on_commit = nullptr);
+  static Result<std::unique_ptr<Gateway>> create(GatewayConfig config, GatewayOptions options = {});
   ~Gateway();
   Gateway(const Gateway&) = delete;
   Gateway& operator=(const Gateway&) = delete;
 
-  // Starts every server connection and the aggregating server (whose port must be free).
+  // Starts every server connection, discovery and the aggregating server (whose port must be
+  // free). Fails on settings the hooks refuse.
   Status start();
   void stop();
 

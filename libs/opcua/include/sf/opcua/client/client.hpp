@@ -130,6 +130,10 @@ class Client {
                         std::function<void(Result<std::vector<DataValue>>)> done);
   // On the session's channel when connected; otherwise on a channel of its own (no session).
   void get_endpoints(std::function<void(Result<std::vector<EndpointDescription>>)> done);
+  // FindServers (OPC 10000-4 §5.4.2): the servers a discovery server knows (a server: itself),
+  // those with an ApplicationUri in server_uris when it is not empty. Like get_endpoints.
+  void find_servers(std::vector<std::string> server_uris,
+                    std::function<void(Result<std::vector<ApplicationDescription>>)> done);
 
   // Subscriptions (OPC 10000-4 §5.13): the client keeps publish_requests Publish requests
   // outstanding, acknowledges what it received and fills gaps in sequence numbers with
@@ -181,6 +185,7 @@ class SyncClient {
   Result<std::vector<BrowsePathResult>> translate(std::vector<BrowsePath> paths);
   Result<std::vector<CallMethodResult>> call(std::vector<CallMethodRequest> methods);
   Result<std::vector<EndpointDescription>> get_endpoints();
+  Result<std::vector<ApplicationDescription>> find_servers(std::vector<std::string> server_uris = {});
   Result<std::vector<DataValue>> history_read_raw(const NodeId& node, HistoryRawParams params);
 
   Result<SubscriptionId> create_subscription(SubscriptionParams params);

@@ -383,8 +383,13 @@ Status configure(Db& db, const detail::StoreUrl& url) {
   // samples spread over many series touches a page per series, and each
   // checkpoint copies those pages back and syncs; measured 1.3x the ingest
   // rate with batches of 1 000 (bench_historian_ingest).
-  return db.exec(fmt::format(
-      "PRAGMA synchronous = {}; PRAGMA foreign_keys = ON; PRAGMA wal_autocheckpoint = 10000", sync));
+  // A 64 MiB page cache instead of SQLite's 2 MiB: with thousands of series every batch touches
+  // index pages of all of them, and a small cache re-reads (and copies) each from the OS per
+  // batch; measured 62 500 → see docs/performance.md (bench_cloud_latency, 10 000 series).
+  return db.exec(
+      fmt::format("PRAGMA synchronous = {}; PRAGMA foreign_keys = ON; PRAGMA wal_autocheckpoint = 10000; "
+                  "PRAGMA cache_size = -65536",
+                  sync));
 }
 
 }  // namespace

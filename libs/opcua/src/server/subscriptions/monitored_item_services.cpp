@@ -112,7 +112,7 @@ MonitoredItemCreateResult create_item(SubscriptionService::Impl& m, Subscription
   if (!is_event && item.enabled()) {
     // §5.12.1.2: the first sample is reported as the initial value.
     subs::offer_sample(item, current, m.utc_now());
-    item.next_sample = m.clock.now() + subs::milliseconds(item.sampling_interval_ms);
+    item.schedule_first_sample(m.clock.now());
   }
   r.monitored_item_id = item.id;
   r.revised_sampling_interval = item.sampling_interval_ms;
@@ -147,7 +147,7 @@ MonitoredItemModifyResult modify_item(SubscriptionService::Impl& m, Subscription
   item.timestamps = timestamps;
   if (config.sampling_interval_ms != item.sampling_interval_ms) {
     item.sampling_interval_ms = config.sampling_interval_ms;
-    item.next_sample = m.clock.now() + subs::milliseconds(item.sampling_interval_ms);
+    item.schedule_first_sample(m.clock.now());
   }
   item.discard_oldest = p.discard_oldest;
   subs::resize_queue(item, config.queue_size);
@@ -172,7 +172,7 @@ void change_mode(SubscriptionService::Impl& m, MonitoredItem& item, MonitoringMo
     item.clear_queue();
   } else if (!was_enabled && !item.is_event) {
     m.sample(item);
-    item.next_sample = m.clock.now() + subs::milliseconds(item.sampling_interval_ms);
+    item.schedule_first_sample(m.clock.now());
   }
 }
 

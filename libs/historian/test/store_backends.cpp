@@ -7,15 +7,6 @@
 
 #include "pg_server.hpp"
 
-// LeakSanitizer: libpqxx 6.4 leaks one PGresult (about 2 KB) when the
-// server dies while a COPY ends (stream_to::complete → end_copy_write throws
-// without clearing it). Only the fault tests kill servers mid-COPY; the
-// leak is in the library, once per lost connection.
-extern "C" const char* __lsan_default_suppressions();  // NOLINT(bugprone-reserved-identifier)
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libpqxx-6.4.so\n";
-}
-
 namespace sf::historian::test {
 
 namespace {

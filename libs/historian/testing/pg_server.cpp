@@ -21,6 +21,15 @@
 
 #include "sf/core/clock.hpp"
 
+// LeakSanitizer: libpqxx 6.4 leaks one PGresult (about 2 KB) when the
+// server dies while a COPY ends (stream_to::complete → end_copy_write throws
+// without clearing it). Tests that kill a PgServer mid-COPY (historian and cloud fault tests) see it; the
+// leak is in the library, once per lost connection.
+extern "C" const char* __lsan_default_suppressions();  // NOLINT(bugprone-reserved-identifier)
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libpqxx-6.4.so\n";
+}
+
 namespace sf::historian::testing {
 
 namespace fs = std::filesystem;

@@ -561,8 +561,8 @@ int run_bench_cmd(const BenchCliOptions& o) {
   say(fmt::format("  {:.0f} negotiations/s one at a time, {:.0f}/s with {} in flight", r->sequential_per_s,
                   r->pipelined_per_s, r->window));
   if (r->ddsperf_rtt_p50_us) {
-    say(fmt::format("  ddsperf ping/pong round trip p50 {:.1f} us: negotiation = {:.1f} round trips",
-                    *r->ddsperf_rtt_p50_us, r->ratio_p50.value_or(0)));
+    say(fmt::format("  ddsperf round trip to {} pongs p50 {:.1f} us: negotiation = {:.1f} round trips",
+                    r->contractors, *r->ddsperf_rtt_p50_us, r->ratio_p50.value_or(0)));
   }
   return kExitOk;
 }
@@ -638,7 +638,8 @@ void register_cnp(CLI::App& app, CommandResult& result) {
   auto* cmd = group->add_subcommand(
       "bench",
       "Negotiation latency (ANNOUNCE -> confirmed AWARD) and rate against N contractors, next to "
-      "ddsperf's ping/pong round trip measured in the same run");
+      "ddsperf's ping/pong round trip at the same fan-out (one pong process per contractor) measured in the "
+      "same run");
   cmd->add_option("--contractors", o->contractors, "Contractors (machines) bidding on every call")
       ->check(CLI::Range(1U, 200U))
       ->capture_default_str();

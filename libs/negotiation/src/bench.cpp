@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -286,6 +287,10 @@ LatencyStats latency_stats(std::vector<double> samples) {
   return s;
 }
 
+// ddsperf at the negotiation's fan-out: one pong process per contractor. "ping" sends the next
+// ping once every pong has answered, so one cycle is a round trip to all of them, as an
+// ANNOUNCE/BID exchange is; it prints each pong's round trip per second, and the slowest pong of
+// a second is that second's fan-out round trip.
 Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
   auto xml = dds::cyclone_config_xml(options.dds.network);
   if (!xml) {
@@ -294,43 +299,69 @@ Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
   const std::vector<std::string> env{"CYCLONEDDS_URI=" + *xml};
   const auto secs = options.ddsperf_duration.count();
   const auto domain = std::to_string(kDdsperfDomain);
-  auto pong = Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs + 5), "pong"},
-                           env, "/dev/null");
-  if (!pong) {
-    return pong.error();
+  const std::size_t pongs = std::max<std::size_t>(1, options.contractors);
+  std::vector<Child> pong_processes;
+  for (std::size_t i = 0; i < pongs; ++i) {
+    auto pong = Child::spawn({options.ddsperf_binary, "-i", domain, "-D",
+                              std::to_string(secs + 40 + static_cast<long>(pongs)), "pong"},
+                             env, "/dev/null");
+    if (!pong) {
+      return pong.error();
+    }
+    pong_processes.push_back(std::move(*pong));
   }
   const auto out = temp_path("ddsperf");
+  // ping starts once it sees every pong's participant; many take a while to be discovered on a
+  // busy host.
+  const auto initwait = 20 + static_cast<long>(pongs);
   auto ping =
-      Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs), "ping"}, env, out);
+      Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs), "-Q",
+                    fmt::format("minmatch:{}", pongs), "-Q", fmt::format("initwait:{}", initwait), "ping"},
+                   env, out);
   if (!ping) {
     return ping.error();
   }
-  ping->wait(std::chrono::seconds{secs + 10});
-  pong->stop();
+  ping->wait(std::chrono::seconds{secs + initwait + 10});
+  for (auto& pong : pong_processes) {
+    pong.stop();
+  }
+  auto stats = parse_ddsperf_output(out);
+  std::remove(out.c_str());
+  if (!stats) {
+    return Error{Errc::not_found, fmt::format("{} printed no round-trip statistics", options.ddsperf_binary)};
+  }
+  return *stats;
+}
+
+std::optional<LatencyStats> parse_ddsperf_output(const std::string& path) {
   // "[pid] 2.000  host:pid size 12 mean 6.9us min 3.7us 50% 4.0us 90% 4.2us 99% 4.5us max 2743us cnt 71926"
-  const std::regex line{R"(mean ([0-9.]+)us min [0-9.]+us 50% ([0-9.]+)us .* cnt ([0-9]+))"};
-  std::ifstream in{out};
+  const std::regex line{R"(\] ([0-9.]+) .* mean ([0-9.]+)us min [0-9.]+us 50% ([0-9.]+)us .* cnt ([0-9]+))"};
+  std::ifstream in{path};
   std::string text;
-  std::vector<double> medians;
+  std::map<std::string, double> slowest;  // per report time: the largest median of its pongs
   double weighted_mean = 0;
   double count = 0;
   while (std::getline(in, text)) {
     std::smatch m;
     if (std::regex_search(text, m, line)) {
-      const double n = std::stod(m[3]);
-      medians.push_back(std::stod(m[2]));
-      weighted_mean += std::stod(m[1]) * n;
+      const double n = std::stod(m[4]);
+      double& worst = slowest[m[1]];
+      worst = std::max(worst, std::stod(m[3]));
+      weighted_mean += std::stod(m[2]) * n;
       count += n;
     }
   }
-  std::remove(out.c_str());
-  if (medians.empty()) {
-    return Error{Errc::not_found, fmt::format("{} printed no round-trip statistics", options.ddsperf_binary)};
+  if (slowest.empty()) {
+    return std::nullopt;
+  }
+  std::vector<double> medians;
+  for (const auto& [time, median] : slowest) {
+    medians.push_back(median);
   }
   std::sort(medians.begin(), medians.end());
   LatencyStats s;
   s.samples = static_cast<std::size_t>(count);
-  s.p50_us = percentile(medians, 0.5);  // the median of its per-second medians
+  s.p50_us = percentile(medians, 0.5);  // the median of the per-second fan-out round trips
   s.mean_us = weighted_mean / count;
   return s;
 }

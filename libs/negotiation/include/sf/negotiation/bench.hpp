@@ -63,8 +63,13 @@ LatencyStats latency_stats(std::vector<double> samples_us);
 Result<BenchResult> run_bench(const BenchOptions& options,
                               const std::function<void(std::string_view)>& progress = {});
 
-// ddsperf ping/pong between two processes on loopback with `settings`'
-// network configuration, in a domain of its own.
+// ddsperf ping/pong on loopback with `settings`' network configuration, in a domain of its own,
+// at the negotiation's fan-out: one pong process per contractor (the "same fan-out"); a
+// ping is sent when every pong has answered.
 Result<LatencyStats> run_ddsperf(const BenchOptions& options);
+// ddsperf ping's output: per report second the slowest pong's median round trip (the fan-out
+// round trip of that second); p50 is the median of those, mean the mean over all round trips.
+// nullopt when the file holds no round-trip line.
+std::optional<LatencyStats> parse_ddsperf_output(const std::string& path);
 
 }  // namespace sf::negotiation

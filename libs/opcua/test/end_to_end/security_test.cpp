@@ -1,8 +1,8 @@
 // Our client against our server over loopback with security (issue 6): every policy in Sign and
 // SignAndEncrypt with anonymous, user name and certificate logins; wrong passwords, untrusted
 // client certificates (refused, then trusted from rejected/ without a restart), roles (a viewer
-// cannot write or call), endpoints that are not offered, and a server whose certificate the
-// client does not trust.
+// cannot write or call; a user who may not read a node cannot monitor it), endpoints that are not
+// offered, and a server whose certificate the client does not trust.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -41,9 +41,18 @@ const SecurityCredentials& robot_credentials() {
 }
 
 std::shared_ptr<security::UserDatabase> users() {
-  auto db = std::make_shared<security::UserDatabase>();
+  // A role of the users file's own: everything but the temperature may be read.
+  auto parsed = security::UserDatabase::parse(
+      "roles:\n"
+      "  no-temperature:\n"
+      "    read: ['!nsu=urn:smartfactory:demo;s=Demo.Temperature', '*']\n");
+  EXPECT_TRUE(parsed.ok());
+  auto db =
+      std::make_shared<security::UserDatabase>(parsed.ok() ? *std::move(parsed) : security::UserDatabase());
   EXPECT_TRUE(db->put({"alice", *security::hash_password("wonderland", kFastHash), "", {"operator"}}).ok());
   EXPECT_TRUE(db->put({"victor", *security::hash_password("viewer-pass", kFastHash), "", {"viewer"}}).ok());
+  EXPECT_TRUE(
+      db->put({"nora", *security::hash_password("nora-pass", kFastHash), "", {"no-temperature"}}).ok());
   const auto robot = security::inspect_certificate(robot_credentials().certificate.span());
   EXPECT_TRUE(db->put({"robot", "", robot->thumbprint, {"engineer"}}).ok());
   return db;
@@ -211,6 +220,27 @@ TEST_F(SecureEndToEnd, ViewerCannotWriteOrCall) {
     ASSERT_TRUE(level.ok());
     EXPECT_EQ(level->at(0).value, Variant(std::uint8_t{1}));  // CurrentRead only
   }
+}
+
+TEST_F(SecureEndToEnd, MonitoringNeedsReadPermission) {
+  start_all();
+  trust_both();
+  SyncClient nora(client(security::kBasic256Sha256Uri, MessageSecurityMode::SignAndEncrypt,
+                         UserIdentity::user("nora", "nora-pass")));
+  ASSERT_TRUE(nora.connect().ok());
+  const NodeId temperature = demo(nora, "Demo.Temperature");
+  auto read = nora.read_value(temperature);
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(status_of(read.error()), status::BadUserAccessDenied);
+  auto subscription = nora.create_subscription({});
+  ASSERT_TRUE(subscription.ok());
+  // CreateMonitoredItems (OPC 10000-4 §5.12.2) creates no item the user may not read.
+  auto denied = nora.monitor_value(*subscription, value_of(temperature), {}, [](const DataValue&) {});
+  ASSERT_FALSE(denied.ok());
+  EXPECT_EQ(status_of(denied.error()), status::BadUserAccessDenied);
+  EXPECT_TRUE(
+      nora.monitor_value(*subscription, value_of(demo(nora, "Demo.Counter")), {}, [](const DataValue&) {})
+          .ok());
 }
 
 TEST_F(SecureEndToEnd, OnlyOfferedEndpointsGetSessions) {

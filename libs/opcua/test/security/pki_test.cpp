@@ -1,9 +1,10 @@
 // The PKI folder and certificate validation (OPC 10000-4 §6.1.3): the own certificate, trust
-// lists, rejected/, validity, URI, key usage, chains through issuers/ and CRLs.
+// lists, rejected/, validity, URI, key usage, chains through issuers/ and CRLs; refusals are logged.
 #include "sf/opcua/security/pki.hpp"
 
 #include <gtest/gtest.h>
 
+#include "../log_capture.hpp"
 #include "sf/opcua/status_codes.hpp"
 #include "test_keys.hpp"
 
@@ -100,7 +101,9 @@ TEST_F(PkiTest, ValidityPeriodIsChecked) {
   expired.validity = hours(24);
   const auto old = app_certificate("urn:test:expired", "client", 2048, nullptr, expired);
   trust(old.certificate);
+  const opcua::test::LogCapture log;
   EXPECT_EQ(validate(old.certificate), status::BadCertificateTimeInvalid);
+  EXPECT_TRUE(log.warned("certificate has expired"));
 
   CertificateRequest future;
   future.not_before = std::chrono::system_clock::now() + hours(24);
@@ -179,7 +182,9 @@ TEST_F(PkiTest, RevokedCertificatesAreRefused) {
   auto crl = create_crl(ca, {bad.certificate}, clock_.utc_now());
   ASSERT_TRUE(crl.ok()) << crl.error().message;
   ASSERT_TRUE(write_file(store_.trusted_crls() / "plant.crl", *crl).ok());
+  const opcua::test::LogCapture log;
   EXPECT_EQ(validate(bad.certificate), status::BadCertificateRevoked);
+  EXPECT_TRUE(log.warned("certificate revoked"));
   EXPECT_EQ(validate(good.certificate), StatusCode{});
 }
 

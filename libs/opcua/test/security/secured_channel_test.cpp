@@ -2,11 +2,12 @@
 // SignAndEncrypt carries messages of many sizes and renews its token; and what an attacker may
 // send is refused with an ERR and a closed channel, never a crash (OPC 10000-6 §6.7.2): tampered
 // signatures and ciphertext, replayed and out-of-order sequence numbers, bad padding under a
-// valid signature, an OPN encrypted for another key.
+// valid signature, an OPN encrypted for another key; each refusal is logged.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
+#include "../log_capture.hpp"
 #include "../transport/channel_harness.hpp"
 #include "sf/opcua/security/policies.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -47,6 +48,15 @@ SecureChannelConfig secured_client(std::string_view policy, MessageSecurityMode 
 
 bool contains(const Bytes& haystack, std::string_view needle) {
   return std::search(haystack.begin(), haystack.end(), needle.begin(), needle.end()) != haystack.end();
+}
+
+// The server refuses `wire` with an ERR and closes the channel (Harness::server_rejects) and
+// logs a warning with the status.
+ErrorMessage refused_and_logged(Harness& h, ByteSpan wire) {
+  const opcua::test::LogCapture log;
+  ErrorMessage err = h.server_rejects(wire);
+  EXPECT_TRUE(log.warned(to_string(err.error))) << to_string(err.error) << " was not logged";
+  return err;
 }
 
 struct Case {
@@ -101,7 +111,7 @@ TEST_P(SecuredChannel, TamperedChunksAreRefused) {
   ASSERT_TRUE(h.client.send_request(opcua::test::read_request(1)).ok());
   Bytes wire = h.client.take_output();
   wire[wire.size() / 2] ^= 0x01U;  // in the body (plain or encrypted): the signature no longer fits
-  EXPECT_EQ(h.server_rejects(wire).error, status::BadSecurityChecksFailed);
+  EXPECT_EQ(refused_and_logged(h, wire).error, status::BadSecurityChecksFailed);
 }
 
 TEST_P(SecuredChannel, TamperedSignaturesAreRefused) {
@@ -111,7 +121,7 @@ TEST_P(SecuredChannel, TamperedSignaturesAreRefused) {
   ASSERT_TRUE(h.client.send_request(opcua::test::read_request(1)).ok());
   Bytes wire = h.client.take_output();
   wire[wire.size() - 1] ^= 0x80U;  // the last signature byte (or the last cipher block)
-  EXPECT_EQ(h.server_rejects(wire).error, status::BadSecurityChecksFailed);
+  EXPECT_EQ(refused_and_logged(h, wire).error, status::BadSecurityChecksFailed);
 }
 
 TEST_P(SecuredChannel, ReplayedChunksAreRefused) {
@@ -124,7 +134,7 @@ TEST_P(SecuredChannel, ReplayedChunksAreRefused) {
   h.collect();
   ASSERT_EQ(opcua::test::count(h.server_events, Kind::ServiceMessage), 1U);
   // The same, correctly signed chunk again: its sequence number was used (§6.7.2.4).
-  EXPECT_EQ(h.server_rejects(first).error, status::BadSequenceNumberInvalid);
+  EXPECT_EQ(refused_and_logged(h, first).error, status::BadSequenceNumberInvalid);
   EXPECT_EQ(opcua::test::count(h.server_events, Kind::ServiceMessage), 1U);
 }
 
@@ -136,7 +146,7 @@ TEST_P(SecuredChannel, OutOfOrderChunksAreRefused) {
   const Bytes first = h.client.take_output();
   ASSERT_TRUE(h.client.send_request(opcua::test::read_request(2)).ok());
   const Bytes second = h.client.take_output();
-  EXPECT_EQ(h.server_rejects(second).error, status::BadSequenceNumberInvalid);
+  EXPECT_EQ(refused_and_logged(h, second).error, status::BadSequenceNumberInvalid);
   EXPECT_EQ(opcua::test::count(h.server_events, Kind::ServiceMessage), 0U);
   (void)first;
 }
@@ -256,7 +266,7 @@ TEST_P(BadPadding, UnderAValidSignatureIsRefused) {
     ASSERT_EQ(opcua::test::count(h.server_events, Kind::ServiceMessage), 1U) << uri;
     *armed = 1;
     ASSERT_TRUE(h.client.send_request(opcua::test::read_request(2)).ok());
-    const auto err = h.server_rejects(h.client.take_output());
+    const auto err = refused_and_logged(h, h.client.take_output());
     EXPECT_EQ(err.error, status::BadSecurityChecksFailed) << uri;
     EXPECT_NE(err.reason.find("padding"), std::string::npos) << err.reason;
     EXPECT_EQ(opcua::test::count(h.server_events, Kind::ServiceMessage), 1U);

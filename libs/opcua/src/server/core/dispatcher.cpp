@@ -279,7 +279,11 @@ void Dispatcher::handle(Call& call, Request& request) {
     });
   } else if constexpr (std::is_same_v<Request, CreateMonitoredItemsRequest>) {
     with_session(call, request, [&](Session& s) {
-      return subscriptions_.create_monitored_items(s.authentication_token, request);
+      const ServiceContext ctx = context_for(s);
+      return subscriptions_.create_monitored_items(
+          s.authentication_token, request, [&](const ReadValueId& item, TimestampsToReturn timestamps) {
+            return read_attribute(space_, item, timestamps, ctx);
+          });
     });
   } else if constexpr (std::is_same_v<Request, ModifyMonitoredItemsRequest>) {
     with_session(call, request, [&](Session& s) {

@@ -58,7 +58,8 @@ namespace {
 
 MonitoredItemCreateResult create_item(SubscriptionService::Impl& m, Subscription& sub,
                                       const MonitoredItemCreateRequest& request,
-                                      TimestampsToReturn timestamps) {
+                                      TimestampsToReturn timestamps,
+                                      const SubscriptionCallbacks::Read& read) {
   MonitoredItemCreateResult r;
   const ReadValueId& target = request.item_to_monitor;
   auto reject = [&](StatusCode code) {
@@ -77,10 +78,10 @@ MonitoredItemCreateResult create_item(SubscriptionService::Impl& m, Subscription
       m.item_count >= m.limits.max_monitored_items) {
     return reject(status::BadTooManyMonitoredItems);
   }
-  if (!m.callbacks.read) {
+  if (!read) {
     return reject(status::BadInternalError);
   }
-  const DataValue current = m.callbacks.read(target, TimestampsToReturn::Both);
+  const DataValue current = read(target, TimestampsToReturn::Both);
   if (subs::fails_creation(current.status)) {
     return reject(StatusCode(current.status.code()));
   }
@@ -179,7 +180,8 @@ void change_mode(SubscriptionService::Impl& m, MonitoredItem& item, MonitoringMo
 }  // namespace
 
 CreateMonitoredItemsResponse SubscriptionService::create_monitored_items(
-    const SessionKey& session, const CreateMonitoredItemsRequest& request) {
+    const SessionKey& session, const CreateMonitoredItemsRequest& request,
+    const SubscriptionCallbacks::Read& read_as_user) {
   Impl& m = *impl_;
   CreateMonitoredItemsResponse response;
   Subscription* sub = m.find(session, request.subscription_id);
@@ -194,8 +196,9 @@ CreateMonitoredItemsResponse SubscriptionService::create_monitored_items(
     return response;
   }
   sub->reset_lifetime();
+  const SubscriptionCallbacks::Read& read = read_as_user ? read_as_user : m.callbacks.read;
   for (const auto& item : request.items_to_create) {
-    response.results.push_back(create_item(m, *sub, item, request.timestamps_to_return));
+    response.results.push_back(create_item(m, *sub, item, request.timestamps_to_return, read));
   }
   return response;
 }

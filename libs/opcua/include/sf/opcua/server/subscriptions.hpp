@@ -60,7 +60,8 @@ struct SubscriptionCallbacks {
   // Bad statuses are reported as the item's value. The engine always asks for
   // TimestampsToReturn::Both (the StatusValueTimestamp trigger needs the source timestamp) and
   // strips what the item did not ask for.
-  std::function<DataValue(const ReadValueId&, TimestampsToReturn)> read;
+  using Read = std::function<DataValue(const ReadValueId&, TimestampsToReturn)>;
+  Read read;
   // EURange of a variable for percent deadband (OPC 10000-8 §5.3.2 AnalogItemType), or
   // nullopt → BadMonitoredItemFilterUnsupported (OPC 10000-4 §7.17.2).
   std::function<std::optional<Range>(const NodeId&)> eu_range;
@@ -97,8 +98,12 @@ class SubscriptionService {
                                                 const SetPublishingModeRequest& request);
   DeleteSubscriptionsResponse delete_subscriptions(const SessionKey& session,
                                                    const DeleteSubscriptionsRequest& request);
+  // `read_as_user` validates the items as the session's user reads them (an item on a node the
+  // user may not read fails with BadUserAccessDenied, as Read does); unset: callbacks.read. Items
+  // are sampled with callbacks.read: a session's user does not change.
   CreateMonitoredItemsResponse create_monitored_items(const SessionKey& session,
-                                                      const CreateMonitoredItemsRequest& request);
+                                                      const CreateMonitoredItemsRequest& request,
+                                                      const SubscriptionCallbacks::Read& read_as_user = {});
   ModifyMonitoredItemsResponse modify_monitored_items(const SessionKey& session,
                                                       const ModifyMonitoredItemsRequest& request);
   SetMonitoringModeResponse set_monitoring_mode(const SessionKey& session,

@@ -57,7 +57,7 @@ struct NamespaceCollector {
         add(item);
       }
     } else if constexpr (nodeset::Structure<T>) {
-      visit_fields(value, [this](std::string_view, const auto& member) { add(member); });
+      visit_fields(value, [&](std::string_view, const auto& member) { add(member); });
     } else if constexpr (std::is_same_v<T, ExtensionObject>) {
       add(value.type_id());
       nodeset::any_xml_structure([&](auto tag) {
@@ -69,7 +69,7 @@ struct NamespaceCollector {
       });
     } else if constexpr (std::is_same_v<T, Variant>) {
       std::visit(
-          [this](const auto& stored) {
+          [&](const auto& stored) {
             using S = std::decay_t<decltype(stored)>;
             if constexpr (requires { stored.get(); }) {
               add(*stored);  // Box<T>

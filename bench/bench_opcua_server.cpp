@@ -25,13 +25,6 @@
 // runs one phase (for profiling one server: `--smartfactory` may name a wrapper script).
 //
 //   build/release/bench/bench_opcua_server [--quick] [--json]
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -44,7 +37,6 @@
 #include <future>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -53,15 +45,15 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "opcua_bench.hpp"
 #include "sf/core/log.hpp"
 #include "sf/net/event_loop.hpp"
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/status_codes.hpp"
 
-extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spawn needs it
-
 namespace {
 
+using namespace opcua_bench;
 namespace ua = sf::opcua;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -69,201 +61,20 @@ using namespace std::chrono_literals;
 
 constexpr std::string_view kDemoNamespace = "urn:smartfactory:demo";
 
-struct Options {
-  bool quick = false;
-  bool json = false;
-  bool verbose = false;  // the servers' stderr goes to ours
-  std::string only;      // one phase (reads, notify, sessions), e.g. for profiling
+struct Options : CommonOptions {
+  Options() : CommonOptions(SF_BENCH_SOURCE_DIR) {}
+  std::string only;  // one phase (reads, notify, sessions), e.g. for profiling
   std::size_t variables = 1000;
   std::size_t sessions = 500;
   std::size_t depth = 8;
   std::size_t read_with_items = 0;  // monitored items on another session during the reads
   double read_seconds = 3;
   double notify_seconds = 5;
-  fs::path smartfactory;
-  fs::path source_dir;
 };
 
 void progress(const std::string& text) {
   std::fprintf(stderr, "bench_opcua_server: %s\n", text.c_str());
 }
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// --- server processes ---------------------------------------------------------------
-
-// CPU time (user + system) process `pid` used so far, in seconds.
-double cpu_seconds_of(pid_t pid) {
-  std::ifstream stat(fmt::format("/proc/{}/stat", pid));
-  std::string text;
-  std::getline(stat, text);
-  // The fields after the command name (in parentheses, may hold spaces): state is field 3,
-  // utime 14 and stime 15, in clock ticks.
-  const auto close = text.rfind(')');
-  if (close == std::string::npos || close + 2 >= text.size()) {
-    return 0;
-  }
-  std::istringstream fields(text.substr(close + 2));
-  std::string field;
-  double ticks = 0;
-  for (int i = 3; i <= 15 && fields >> field; ++i) {
-    if (i >= 14) {
-      ticks += std::stod(field);
-    }
-  }
-  return ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
-}
-
-// A server as a child process. Ready once it prints its port on stdout: node_server.mjs prints
-// "READY <port>", `smartfactory opcua server` prints "listening on opc.tcp://<host>:<port>".
-class ServerProcess {
- public:
-  explicit ServerProcess(std::string name) : name_(std::move(name)) {}
-  ServerProcess(const ServerProcess&) = delete;
-  ServerProcess& operator=(const ServerProcess&) = delete;
-  ~ServerProcess() { stop(); }
-
-  bool start(const std::vector<std::string>& args, const fs::path& cwd, bool verbose,
-             std::chrono::seconds timeout) {
-    int in[2] = {-1, -1};
-    int out[2] = {-1, -1};
-    if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0) {
-      return false;
-    }
-    std::vector<char*> argv;
-    for (const auto& a : args) {
-      argv.push_back(const_cast<char*>(a.c_str()));  // NOLINT: posix_spawn's signature
-    }
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, in[0], STDIN_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-    if (!verbose) {
-      posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-    }
-    posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-    const int rc = ::posix_spawnp(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    ::close(in[0]);
-    ::close(out[1]);
-    stdin_ = in[1];
-    stdout_ = out[0];
-    if (rc != 0) {
-      pid_ = -1;
-      return false;
-    }
-    return wait_ready(timeout);
-  }
-
-  // Closes stdin (node_server.mjs exits then) and sends SIGTERM; SIGKILL after 10 s.
-  void stop() {
-    if (pid_ > 0) {
-      resume();
-      if (stdin_ >= 0) {
-        ::close(stdin_);
-        stdin_ = -1;
-      }
-      ::kill(pid_, SIGTERM);
-      if (!wait_exit(10s)) {
-        ::kill(pid_, SIGKILL);
-        wait_exit(10s);
-      }
-    }
-    for (int* fd : {&stdin_, &stdout_}) {
-      if (*fd >= 0) {
-        ::close(*fd);
-        *fd = -1;
-      }
-    }
-  }
-
-  // SIGSTOP / SIGCONT: the server takes no CPU while the other one is measured.
-  void pause() {
-    if (pid_ > 0 && !paused_) {
-      ::kill(pid_, SIGSTOP);
-      paused_ = true;
-    }
-  }
-  void resume() {
-    if (pid_ > 0 && paused_) {
-      ::kill(pid_, SIGCONT);
-      paused_ = false;
-    }
-  }
-
-  // VmRSS in bytes (0 when unknown).
-  [[nodiscard]] std::uint64_t rss() const {
-    std::ifstream status(fmt::format("/proc/{}/status", pid_));
-    std::string line;
-    while (std::getline(status, line)) {
-      if (line.rfind("VmRSS:", 0) == 0) {
-        return std::stoull(line.substr(6)) * 1024;
-      }
-    }
-    return 0;
-  }
-
-  [[nodiscard]] double cpu_seconds() const { return cpu_seconds_of(pid_); }
-
-  [[nodiscard]] bool running() const { return pid_ > 0 && ::kill(pid_, 0) == 0; }
-  [[nodiscard]] const std::string& name() const { return name_; }
-  [[nodiscard]] std::string url() const { return fmt::format("opc.tcp://127.0.0.1:{}", port_); }
-
- private:
-  bool wait_ready(std::chrono::seconds timeout) {
-    const auto deadline = Clock::now() + timeout;
-    std::string buffer;
-    while (Clock::now() < deadline) {
-      pollfd p{stdout_, POLLIN, 0};
-      if (::poll(&p, 1, 200) <= 0) {
-        continue;
-      }
-      char chunk[256];
-      const ssize_t n = ::read(stdout_, chunk, sizeof chunk);
-      if (n <= 0) {
-        return false;  // the process ended before it was ready
-      }
-      buffer.append(chunk, static_cast<std::size_t>(n));
-      const auto eol = buffer.find('\n');
-      if (eol == std::string::npos) {
-        continue;
-      }
-      const std::string line = buffer.substr(0, eol);
-      const auto ready = line.find("READY ");
-      const auto listening = line.find("listening on ");
-      const auto colon = line.rfind(':');
-      if (ready != std::string::npos) {
-        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
-      } else if (listening != std::string::npos && colon != std::string::npos) {
-        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
-      }
-      return port_ != 0;
-    }
-    return false;
-  }
-
-  bool wait_exit(std::chrono::seconds timeout) {
-    const auto deadline = Clock::now() + timeout;
-    while (::waitpid(pid_, nullptr, WNOHANG) == 0) {
-      if (Clock::now() >= deadline) {
-        return false;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    pid_ = -1;
-    return true;
-  }
-
-  std::string name_;
-  pid_t pid_ = -1;
-  int stdin_ = -1;
-  int stdout_ = -1;
-  std::uint16_t port_ = 0;
-  bool paused_ = false;
-};
 
 // --- measurements -------------------------------------------------------------------
 
@@ -304,70 +115,6 @@ std::optional<Connection> connect(const ServerProcess& server, const std::string
   }
   c.ns = *ns;
   return c;
-}
-
-struct ReadResult {
-  double values_per_s = 0;
-  double cpu_percent = 0;         // the server's, of one core
-  double client_cpu_percent = 0;  // this process's (the client's loop thread), of one core
-  std::uint64_t requests = 0;
-  std::uint64_t bad = 0;  // failed requests or values with a Bad status
-};
-
-// `depth` ReadRequests of `per_request` values outstanding for `seconds`; values whose response
-// arrived within the window count.
-ReadResult measure_reads(const ServerProcess& server, ua::Client& client, std::vector<ua::ReadValueId> items,
-                         std::size_t depth, double seconds) {
-  struct State {
-    ua::Client* client = nullptr;
-    std::vector<ua::ReadValueId> items;
-    Clock::time_point end;
-    std::uint64_t values = 0;
-    std::uint64_t requests = 0;
-    std::uint64_t bad = 0;
-    std::size_t outstanding = 0;
-    std::promise<void> finished;
-    std::function<void()> issue;
-  };
-  auto state = std::make_shared<State>();
-  state->client = &client;
-  state->items = std::move(items);
-  state->issue = [s = state.get()] {
-    ++s->outstanding;
-    s->client->read(s->items, [s](sf::Result<std::vector<ua::DataValue>> values) {
-      --s->outstanding;
-      if (Clock::now() <= s->end) {
-        ++s->requests;
-        if (!values) {
-          ++s->bad;
-        } else {
-          for (const auto& v : *values) {
-            (v.status.is_bad() ? s->bad : s->values) += 1;
-          }
-        }
-        s->issue();
-      } else if (s->outstanding == 0) {
-        s->finished.set_value();
-      }
-    });
-  };
-  auto finished = state->finished.get_future();
-  const double cpu = server.cpu_seconds();
-  const double client_cpu = cpu_seconds_of(::getpid());
-  const auto start = Clock::now();
-  state->end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-  for (std::size_t i = 0; i < depth; ++i) {
-    state->issue();  // Client::read posts to the client's loop
-  }
-  finished.wait();
-  ReadResult r;
-  r.cpu_percent = 100.0 * (server.cpu_seconds() - cpu) / seconds_since(start);
-  r.client_cpu_percent = 100.0 * (cpu_seconds_of(::getpid()) - client_cpu) / seconds_since(start);
-  r.values_per_s = static_cast<double>(state->values) / seconds;
-  r.requests = state->requests;
-  r.bad = state->bad;
-  state->issue = nullptr;
-  return r;
 }
 
 struct NotifyResult {
@@ -558,23 +305,6 @@ struct Pair {
   }
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string node_opcua_version(const fs::path& source_dir) {
-  try {
-    const auto j =
-        nlohmann::json::parse(read_text(source_dir / "node_modules" / "node-opcua" / "package.json"));
-    return j.value("version", "?");
-  } catch (const std::exception&) {
-    return "?";
-  }
-}
-
 std::string format_value(double v, const std::string& unit) {
   if (unit == "MiB") {
     return fmt::format("{:.1f}", v);
@@ -589,23 +319,21 @@ std::string format_value(double v, const std::string& unit) {
 }
 
 int run(const Options& o) {
-  const std::string node_version = node_opcua_version(o.source_dir);
+  const std::string node_version = node_opcua_version(o.where.source_dir);
   ServerProcess ours("ours");
   ServerProcess node("node-opcua");
-  progress(fmt::format("starting our server ({})", o.smartfactory.string()));
+  progress(fmt::format("starting our server ({})", o.where.smartfactory.string()));
   const std::string vars = std::to_string(o.variables);
   const std::string sessions = std::to_string(o.sessions);
-  if (!ours.start({o.smartfactory.string(), "--log-level", "warn", "opcua", "server", "--host", "127.0.0.1",
-                   "--advertised-host", "127.0.0.1", "--port", "0", "--demo-model", "--bench-variables", vars,
-                   "--max-sessions", sessions, "--status-interval", "0", "--security", "none"},
-                  o.source_dir, o.verbose, 30s)) {
+  if (!ours.start(our_server_command(o.where.smartfactory, {"--bench-variables", vars, "--max-sessions",
+                                                            sessions, "--security", "none"}),
+                  o.where.source_dir, o.verbose, 30s)) {
     progress("our server did not start");
     return 1;
   }
   progress(fmt::format("starting node-opcua {}", node_version));
-  if (!node.start({"node", (o.source_dir / "tests" / "peers" / "opcua" / "node_server.mjs").string(), "0",
-                   "--variables", vars, "--max-sessions", sessions},
-                  o.source_dir, o.verbose, 120s)) {
+  if (!node.start(node_server_command(o.where.source_dir, {"--variables", vars, "--max-sessions", sessions}),
+                  o.where.source_dir, o.verbose, 120s)) {
     progress("the node-opcua server did not start (node on PATH? npm ci?)");
     return 1;
   }
@@ -772,12 +500,6 @@ int run(const Options& o) {
   return 0;
 }
 
-fs::path self_dir() {
-  std::error_code ec;
-  const auto exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::current_path() : exe.parent_path();
-}
-
 void usage() {
   std::fprintf(stderr,
                "usage: bench_opcua_server [--quick] [--json] [--verbose] [--sessions N] [--variables N]\n"
@@ -792,53 +514,28 @@ void usage() {
 
 int main(int argc, char** argv) {
   Options o;
-  o.smartfactory = self_dir() / ".." / "apps" / "smartfactory" / "smartfactory";
-  const char* source = std::getenv("SF_SOURCE_DIR");
-  o.source_dir = source != nullptr ? fs::path(source) : fs::path(SF_BENCH_SOURCE_DIR);
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        usage();
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    try {
-      if (a == "--quick") {
-        o.quick = true;
-      } else if (a == "--json") {
-        o.json = true;
-      } else if (a == "--verbose") {
-        o.verbose = true;
-      } else if (a == "--sessions") {
-        o.sessions = std::stoul(value());
-      } else if (a == "--variables") {
-        o.variables = std::stoul(value());
-      } else if (a == "--depth") {
-        o.depth = std::max<std::size_t>(1, std::stoul(value()));
-      } else if (a == "--read-seconds") {
-        o.read_seconds = std::stod(value());
-      } else if (a == "--notify-seconds") {
-        o.notify_seconds = std::stod(value());
-      } else if (a == "--read-with-items") {
-        o.read_with_items = std::stoul(value());
-      } else if (a == "--only") {
-        o.only = value();
-      } else if (a == "--smartfactory") {
-        o.smartfactory = value();
-      } else if (a == "--source-dir") {
-        o.source_dir = value();
-      } else if (a.rfind("--benchmark_", 0) == 0) {
-        // scripts/bench passes its arguments to every benchmark; Google Benchmark's are not ours.
-      } else {
-        usage();
-        return a == "--help" || a == "-h" ? 0 : 2;
-      }
-    } catch (const std::exception&) {
-      usage();
-      return 2;
+  const auto own = [&o](std::string_view a, const OptionValue& value) {
+    if (a == "--sessions") {
+      o.sessions = std::stoul(value());
+    } else if (a == "--variables") {
+      o.variables = std::stoul(value());
+    } else if (a == "--depth") {
+      o.depth = std::max<std::size_t>(1, std::stoul(value()));
+    } else if (a == "--read-seconds") {
+      o.read_seconds = std::stod(value());
+    } else if (a == "--notify-seconds") {
+      o.notify_seconds = std::stod(value());
+    } else if (a == "--read-with-items") {
+      o.read_with_items = std::stoul(value());
+    } else if (a == "--only") {
+      o.only = value();
+    } else {
+      return false;
     }
+    return true;
+  };
+  if (const auto exit_status = parse_options(argc, argv, o, usage, own)) {
+    return *exit_status;
   }
   if (o.read_with_items > o.variables) {
     std::fprintf(stderr, "bench_opcua_server: --read-with-items must not exceed --variables\n");

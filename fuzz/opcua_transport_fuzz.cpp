@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "opcua_channel_fuzz.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/encoding.hpp"
@@ -18,65 +19,7 @@
 namespace {
 
 using namespace sf::opcua;
-
-void check(bool ok) {
-  if (!ok) {
-    __builtin_trap();
-  }
-}
-
-SecureChannelConfig server_config() {
-  SecureChannelConfig c;
-  c.role = ChannelRole::Server;
-  c.channel_id = 77;
-  c.limits.receive_buffer_size = 8192;
-  c.limits.max_message_size = 64 * 1024;
-  c.limits.max_chunk_count = 16;
-  c.decode_limits.max_string_length = 4096;
-  c.decode_limits.max_array_length = 256;
-  c.decode_limits.max_depth = 16;
-  return c;
-}
-
-// Opens the server with an in-memory client; returns the client's next sequence number.
-std::uint32_t open(SecureChannel& server, const sf::Clock& clock) {
-  SecureChannelConfig c;
-  c.role = ChannelRole::Client;
-  c.endpoint_url = "opc.tcp://fuzz";
-  SecureChannel client(c, clock);
-  client.start();
-  for (int i = 0; i < 4; ++i) {
-    server.receive(client.take_output());
-    client.receive(server.take_output());
-  }
-  check(server.is_open() && client.is_open());
-  (void)server.take_events();
-  return 2;  // the OPN used sequence number 1
-}
-
-// Answers what was delivered (so sending runs too) and checks the event stream's shape.
-void drain(SecureChannel& server, bool& closed) {
-  for (auto& event : server.take_events()) {
-    check(!closed);  // Closed is the last event
-    switch (event.kind) {
-      case ChannelEvent::Kind::ServiceMessage:
-      case ChannelEvent::Kind::Undecodable: {
-        ServiceFault fault;
-        fault.response_header.request_handle = event.request_handle;
-        fault.response_header.service_result = event.status;
-        (void)server.send_response(event.request_id, fault);
-        break;
-      }
-      case ChannelEvent::Kind::Closed:
-        closed = true;
-        check(server.is_closed());
-        break;
-      default:
-        break;
-    }
-  }
-  (void)server.take_output();
-}
+using namespace opcua_fuzz;
 
 void feed_chunks(SecureChannel& server, sf::ByteSpan input, std::uint32_t sequence, bool& closed) {
   sf::ByteReader r(input);
@@ -122,7 +65,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     server.receive(encode_hello(make_hello(TransportLimits{}, "opc.tcp://fuzz")));
     (void)server.take_output();
   } else if (mode >= 2) {
-    sequence = open(server, clock);
+    sequence = open(server, SecureChannelConfig{}, clock);
   }
   if (mode == 3) {
     feed_chunks(server, input, sequence, closed);

@@ -9,7 +9,7 @@
 // sustained rate: samples committed per second against samples produced per second.
 //
 //   bench_cloud_latency [--servers 10] [--variables 1000] [--interval-ms 100] [--seconds 10]
-//                       [--db sqlite|postgresql] [--batch 50000] [--flush-ms 250] [--json]
+//                       [--db sqlite|postgresql] [--batch 1000] [--flush-ms 200] [--json]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -42,8 +42,8 @@ struct Options {
   int interval_ms = 100;
   int seconds = 10;
   std::string db = "sqlite";
-  std::size_t batch = 50000;
-  int flush_ms = 250;
+  std::size_t batch = 1000;
+  int flush_ms = 200;
   bool json = false;
 };
 

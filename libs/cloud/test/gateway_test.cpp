@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <mutex>
 
 #include "counter_server.hpp"
 #include "pg_server.hpp"
@@ -127,8 +128,13 @@ class GatewayEndToEnd : public ::testing::Test {
 TEST_F(GatewayEndToEnd, EveryValueOfEveryServerReachesSqliteInOrder) {
   auto gateway = Gateway::create(config_for("sqlite:" + (dir_.path() / "history.db").string()));
   ASSERT_TRUE(gateway.ok()) << gateway.error().message;
+  // Updates of different servers arrive on different threads.
+  std::mutex live_mutex;
   std::map<std::string, std::size_t> live;
-  auto on = (*gateway)->live().subscribe([&live](const LiveUpdate& u) { ++live[u.series->server]; });
+  auto on = (*gateway)->live().subscribe([&](const LiveUpdate& u) {
+    const std::lock_guard lock(live_mutex);
+    ++live[u.series->server];
+  });
   ASSERT_TRUE((*gateway)->start().ok());
   wait_subscribed(**gateway);
   constexpr std::int64_t kSteps = 40;
@@ -142,6 +148,7 @@ TEST_F(GatewayEndToEnd, EveryValueOfEveryServerReachesSqliteInOrder) {
   EXPECT_EQ(status.samples_received, kServers * kCounters * (kSteps + 1));
   EXPECT_EQ(status.samples_failed, 0U);
   // The live bus saw every value too, per server.
+  const std::lock_guard lock(live_mutex);
   for (std::size_t s = 0; s < kServers; ++s) {
     EXPECT_EQ(live["line-" + std::to_string(s)], kCounters * (kSteps + 1));
   }

@@ -41,8 +41,9 @@ class LiveBus {
     std::size_t id_ = 0;
   };
 
-  // Callbacks run on the gateway's threads, one update at a time per server: keep them short and
-  // never call back into the bus from them.
+  // Callbacks run on the gateway's threads, one update at a time per server but those of different
+  // servers at the same time (a thread per server): a subscriber guards its own state. Keep them
+  // short and never call back into the bus from them.
   [[nodiscard]] Subscription subscribe(Callback on_value, EventCallback on_event = nullptr);
   void publish(const LiveUpdate& update);
   void publish(const historian::Event& event);

@@ -13,9 +13,6 @@
 //     "objects": { "<name>": { "type": "<name>", "parent": "<name>", "components": [...],
 //                              "references": { "<reftype>": [...] }, "values": { "<name>": value } } } }
 import "../opcua/quiet_console.mjs";
-import net from "node:net";
-import os from "node:os";
-import path from "node:path";
 import process from "node:process";
 
 import {
@@ -23,12 +20,11 @@ import {
   BrowseDirection,
   MessageSecurityMode,
   NodeClass,
-  OPCUACertificateManager,
   OPCUAClient,
-  OPCUAServer,
   SecurityPolicy,
-  nodesets,
 } from "node-opcua";
+
+import { start_nodeset_server } from "../opcua/loopback_server.mjs";
 
 function parse_args(argv) {
   const args = { nodeset: null, url: null, namespace: null };
@@ -41,36 +37,6 @@ function parse_args(argv) {
     throw new Error("usage: nodeset_browse.mjs (--nodeset FILE | --url URL) --namespace URI");
   }
   return args;
-}
-
-async function free_port() {
-  return new Promise((resolve, reject) => {
-    const s = net.createServer();
-    s.once("error", reject);
-    s.listen(0, "127.0.0.1", () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
-
-async function start_server(file) {
-  const port = await free_port();
-  const pki = path.join(os.tmpdir(), `sf-node-opcua-pki-${process.getuid?.() ?? 0}`);
-  const server = new OPCUAServer({
-    port,
-    host: "127.0.0.1",
-    hostname: "127.0.0.1",
-    securityPolicies: [SecurityPolicy.None],
-    securityModes: [MessageSecurityMode.None],
-    allowAnonymous: true,
-    serverCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(pki, "server") }),
-    disableDiscovery: true,
-    nodeset_filename: [nodesets.standard, file],
-  });
-  await server.initialize();
-  await server.start();
-  return { server, url: `opc.tcp://127.0.0.1:${port}` };
 }
 
 // All references of one kind from a node (following continuation points).
@@ -168,7 +134,7 @@ async function objects(session, ns) {
 
 async function main() {
   const args = parse_args(process.argv.slice(2));
-  const started = args.nodeset ? await start_server(args.nodeset) : null;
+  const started = args.nodeset ? await start_nodeset_server([args.nodeset]) : null;
   const url = started ? started.url : args.url;
   const client = OPCUAClient.create({
     endpointMustExist: false,

@@ -25,7 +25,6 @@
 //   RaiseEvent(message: String)  raises a BaseEventType event   ns=<i>;s=Demo.RaiseEvent
 // and a BaseEventType event on the Server object every 500 ms ("tick <n>", severity 100).
 import "./quiet_console.mjs";
-import net from "node:net";
 import os from "node:os";
 import path from "node:path";
 import process from "node:process";
@@ -41,20 +40,9 @@ import {
   Variant,
 } from "node-opcua";
 
-const log = (...args) => process.stderr.write(`[node_server] ${args.join(" ")}\n`);
+import { free_port } from "./loopback_server.mjs";
 
-// Port 0: ask the kernel for a free port first, because node-opcua builds its endpoint URLs
-// before it listens and would advertise port 0.
-async function free_port() {
-  return new Promise((resolve, reject) => {
-    const s = net.createServer();
-    s.once("error", reject);
-    s.listen(0, "127.0.0.1", () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
+const log = (...args) => process.stderr.write(`[node_server] ${args.join(" ")}\n`);
 
 function build_demo_model(addressSpace) {
   const ns = addressSpace.registerNamespace("urn:smartfactory:demo");

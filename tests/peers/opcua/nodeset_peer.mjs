@@ -14,39 +14,23 @@
 //       document of what it built, for the test to compare with what our server serves.
 import "./quiet_console.mjs";
 import fs from "node:fs";
-import net from "node:net";
-import os from "node:os";
-import path from "node:path";
 import process from "node:process";
 
 import {
   AttributeIds,
   BrowseDirection,
   DataType,
-  MessageSecurityMode,
   NodeClass,
-  OPCUACertificateManager,
   OPCUAClient,
-  OPCUAServer,
-  SecurityPolicy,
   VariantArrayType,
   nodesets,
 } from "node-opcua";
 import { AddressSpace } from "node-opcua-address-space";
 import { generateAddressSpace } from "node-opcua-address-space/nodeJS.js";
 
-const log = (...args) => process.stderr.write(`[nodeset_peer] ${args.join(" ")}\n`);
+import { start_nodeset_server } from "./loopback_server.mjs";
 
-async function free_port() {
-  return new Promise((resolve, reject) => {
-    const s = net.createServer();
-    s.once("error", reject);
-    s.listen(0, "127.0.0.1", () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
+const log = (...args) => process.stderr.write(`[nodeset_peer] ${args.join(" ")}\n`);
 
 function plain(value) {
   if (value === null || value === undefined) {
@@ -141,23 +125,9 @@ async function walk(session, roots, namespaces) {
 }
 
 async function load(files) {
-  const port = await free_port();
-  const pki = path.join(os.tmpdir(), `sf-node-opcua-pki-${process.getuid?.() ?? 0}`);
-  const server = new OPCUAServer({
-    port,
-    host: "127.0.0.1",
-    hostname: "127.0.0.1",
-    securityPolicies: [SecurityPolicy.None],
-    securityModes: [MessageSecurityMode.None],
-    allowAnonymous: true,
-    disableDiscovery: true,
-    serverCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(pki, "server") }),
-    nodeset_filename: [nodesets.standard, ...files.map((f) => path.resolve(f))],
-  });
-  await server.initialize();
-  await server.start();
+  const { server, url } = await start_nodeset_server(files);
   const client = OPCUAClient.create({ endpointMustExist: false, connectionStrategy: { maxRetry: 1 } });
-  await client.connect(`opc.tcp://127.0.0.1:${port}`);
+  await client.connect(url);
   const session = await client.createSession();
   const [ns] = await session.read([{ nodeId: "i=2255", attributeId: AttributeIds.Value }]);
   const namespaces = ns.value.value;

@@ -17,7 +17,7 @@ function(sf_unit_test name)
     return()
   endif()
   add_executable(${name} ${T_SOURCES})
-  target_link_libraries(${name} PRIVATE ${T_DEPS} GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
+  target_link_libraries(${name} PRIVATE ${T_DEPS} sf::core_testing GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
   # SF_SOURCE_DIR: tests that start peers from the repository (node-opcua, Jena) find it there.
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS unit ENVIRONMENT "SF_SOURCE_DIR=${PROJECT_SOURCE_DIR}")

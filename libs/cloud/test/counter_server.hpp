@@ -16,6 +16,7 @@
 
 #include "sf/cloud/config.hpp"
 #include "sf/opcua/server/server.hpp"
+#include "sf/testing/temp_dir.hpp"
 
 namespace sf::cloud::test {
 
@@ -63,19 +64,7 @@ inline ServerConfig server_config(std::string name, std::string url, std::vector
   return server;
 }
 
-// A temporary directory, removed with what it holds.
-class TempDir {
- public:
-  TempDir() {
-    char pattern[] = "/tmp/sf-cloud-test-XXXXXX";
-    path_ = ::mkdtemp(pattern);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = sf::testing::TempDir;
 
 class CounterServer {
  public:

@@ -1,28 +1,10 @@
-// A temporary directory for a test, removed with everything in it.
+// The historian tests' TempDir is the shared one.
 #pragma once
 
-#include <stdlib.h>
-
-#include <filesystem>
+#include "sf/testing/temp_dir.hpp"
 
 namespace sf::historian::test {
 
-class TempDir {
- public:
-  TempDir() {
-    char tmpl[] = "/tmp/sf-hist-XXXXXX";
-    path_ = ::mkdtemp(tmpl) != nullptr ? std::filesystem::path{tmpl} : std::filesystem::path{};
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = sf::testing::TempDir;
 
 }  // namespace sf::historian::test

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "sf/opcua/security/certificate.hpp"
+#include "sf/testing/temp_dir.hpp"
 
 namespace sf::opcua::security::test {
 
@@ -57,23 +58,6 @@ inline SecurityCredentials ca_certificate(const std::string& name,
   return made.ok() ? *made : SecurityCredentials{};
 }
 
-// A fresh directory under $TMPDIR, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "sf-security-XXXXXX").string();
-    path_ = ::mkdtemp(pattern.data()) != nullptr ? std::filesystem::path(pattern) : std::filesystem::path();
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = sf::testing::TempDir;
 
 }  // namespace sf::opcua::security::test

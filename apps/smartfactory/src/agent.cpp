@@ -39,6 +39,7 @@ struct DdsCliOptions {
   std::string interface = "lo";
   unsigned lease_ms = 1000;
   unsigned spin_us = 0;
+  std::string delivery = "inline";
   bool json = false;
   bool layout = false;
 };
@@ -63,6 +64,11 @@ void add_dds_options(CLI::App& cmd, DdsCliOptions& o) {
       ->capture_default_str();
   cmd.add_option("--spin-us", o.spin_us,
                  "Poll for incoming messages this long before sleeping: lower latency for more CPU")
+      ->capture_default_str();
+  cmd.add_option("--delivery", o.delivery,
+                 "Where messages are handled: 'inline' on the DDS thread that received them (one thread "
+                 "wake-up less per message), 'queued' on the agent's own thread")
+      ->check(CLI::IsMember({"inline", "queued"}))
       ->capture_default_str();
   cmd.add_flag("--json", o.json, "Print events (or the result) as JSON on stdout");
 }
@@ -116,9 +122,14 @@ void print_layout(const std::vector<const dds::Participant*>& participants, bool
   }
 }
 
-int run_until_stopped(dds::Executor& ex, cnp::Agent& agent) {
+cnp::RunOptions run_options(const DdsCliOptions& o) {
+  return cnp::RunOptions{o.delivery == "inline"};
+}
+
+int run_until_stopped(dds::Executor& ex, cnp::Agent& agent, const DdsCliOptions& o) {
   install_stop_signals();
-  cnp::run_agents(ex, SteadyClock::instance(), {&agent}, [] { return stop_requested(); });
+  cnp::run_agents(
+      ex, SteadyClock::instance(), {&agent}, [] { return stop_requested(); }, run_options(o));
   return kExitOk;
 }
 
@@ -240,7 +251,7 @@ int run_machine(const MachineCliOptions& o) {
   }
   o.dds.json ? emit(json{{"event", "ready"}, {"machine", o.name}, {"ops", *ops}})
              : say(fmt::format("machine {} ready for {}", o.name, o.ops));
-  return run_until_stopped(ex, **agent);
+  return run_until_stopped(ex, **agent, o.dds);
 }
 
 void register_machine(CLI::App& group, CommandResult& result) {
@@ -297,7 +308,7 @@ int run_conveyor(const ConveyorCliOptions& o) {
   }
   o.dds.json ? emit(json{{"event", "ready"}, {"conveyor", o.name}, {"from", o.from}, {"to", o.to}})
              : say(fmt::format("conveyor {} ready: {} -> {}", o.name, o.from, o.to));
-  return run_until_stopped(ex, **agent);
+  return run_until_stopped(ex, **agent, o.dds);
 }
 
 void register_conveyor(CLI::App& group, CommandResult& result) {
@@ -442,7 +453,9 @@ int run_product(const ProductCliOptions& o) {
   const auto deadline = o.timeout_s > 0 ? clock.now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                                             std::chrono::duration<double>(o.timeout_s))
                                         : Clock::time_point::max();
-  cnp::run_agents(ex, clock, {agent->get()}, [&] { return stop_requested() || clock.now() > deadline; });
+  cnp::run_agents(
+      ex, clock, {agent->get()}, [&] { return stop_requested() || clock.now() > deadline; },
+      run_options(o.dds));
   const auto& a = **agent;
   if (o.dds.json) {
     emit(json{{"event", "summary"},
@@ -545,6 +558,7 @@ int run_bench_cmd(const BenchCliOptions& o) {
   b.ddsperf = !o.no_ddsperf;
   b.ddsperf_duration = std::chrono::seconds{o.ddsperf_s};
   b.spin = std::chrono::microseconds{o.dds.spin_us};
+  b.inline_delivery = run_options(o.dds).inline_delivery;
   auto r = cnp::run_bench(b, [](std::string_view line) { std::cerr << "cnp bench: " << line << "\n"; });
   if (!r) {
     std::cerr << "cnp bench: " << r.error().describe() << "\n";

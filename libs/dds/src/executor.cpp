@@ -5,8 +5,48 @@
 #include <utility>
 
 namespace sf::dds {
+namespace {
+
+// Tasks running, or strands held, on this thread (any executor): a post from
+// inside is queued, never run nested inside it.
+thread_local int running_tasks = 0;
+
+struct Running {
+  Running() { ++running_tasks; }
+  ~Running() { --running_tasks; }
+  Running(const Running&) = delete;
+  Running& operator=(const Running&) = delete;
+};
+
+}  // namespace
+
+Executor::Hold::Hold(std::recursive_mutex& strand) : strand_(&strand) {
+  strand_->lock();
+  ++running_tasks;
+}
+
+void Executor::Hold::unlock() {
+  if (strand_ != nullptr) {
+    --running_tasks;
+    strand_->unlock();
+    strand_ = nullptr;
+  }
+}
 
 void Executor::post(Task task) {
+  if (running_tasks == 0 && inline_.load(std::memory_order_acquire)) {
+    std::unique_lock strand{strand_, std::try_to_lock};
+    // Checked again under the strand: set_inline(false) under hold() means no
+    // task runs inline once it returns.
+    if (strand.owns_lock() && inline_.load(std::memory_order_acquire)) {
+      run_inline(task);
+      return;
+    }
+  }
+  enqueue(std::move(task));
+}
+
+void Executor::enqueue(Task task) {
   {
     const std::lock_guard lock{mutex_};
     tasks_.push_back(std::move(task));
@@ -15,7 +55,28 @@ void Executor::post(Task task) {
   cv_.notify_one();
 }
 
+void Executor::run_inline(Task& task) {
+  {
+    const Running running;
+    task();
+  }
+  // What the task (or other listener threads) queued meanwhile, so that it
+  // does not wait for the application thread to wake up.
+  while (queued_.load(std::memory_order_acquire) > 0 && run_batch() > 0) {
+  }
+  // The application thread sleeps until its next timer as it knew it before
+  // the task; the task may have set an earlier one.
+  if (!wake_check_ || wake_check_()) {
+    notify();
+  }
+}
+
 std::size_t Executor::run_pending() {
+  const std::lock_guard strand{strand_};
+  return run_batch();
+}
+
+std::size_t Executor::run_batch() {
   std::deque<Task> batch;
   {
     const std::lock_guard lock{mutex_};
@@ -23,6 +84,7 @@ std::size_t Executor::run_pending() {
     queued_.store(0, std::memory_order_release);
     notified_ = false;
   }
+  const Running running;
   for (auto& task : batch) {
     task();
   }

@@ -109,6 +109,10 @@ QosSettings read_settings(const Qos& qos) {
   read_durability_history(qos.get(), s);
   read_timing(qos.get(), s);
   read_names(qos.get(), s);
+  bool autodispose = true;
+  if (dds_qget_writer_data_lifecycle(qos.get(), &autodispose)) {
+    s.autodispose_unregistered_instances = autodispose;
+  }
   return s;
 }
 
@@ -161,6 +165,11 @@ QosBuilder& QosBuilder::user_data(std::string data) {
   return *this;
 }
 
+QosBuilder& QosBuilder::autodispose_unregistered_instances(bool on) {
+  s_.autodispose_unregistered_instances = on;
+  return *this;
+}
+
 Qos QosBuilder::build() const {
   Qos qos;
   dds_qos_t* q = qos.get();
@@ -199,6 +208,9 @@ Qos QosBuilder::build() const {
   }
   if (s_.user_data) {
     dds_qset_userdata(q, s_.user_data->data(), s_.user_data->size());
+  }
+  if (s_.autodispose_unregistered_instances) {
+    dds_qset_writer_data_lifecycle(q, *s_.autodispose_unregistered_instances);
   }
   return qos;
 }

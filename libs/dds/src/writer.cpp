@@ -28,7 +28,9 @@ Result<WriterBase> WriterBase::create_raw(const Participant& participant, dds_en
   if (core) {
     core->entity.store(w);
   }
-  return WriterBase{Entity{w}, std::move(core), std::move(topic_name)};
+  bool autodispose = true;  // the policy's default when the QoS does not set it
+  dds_qget_writer_data_lifecycle(qos.get(), &autodispose);
+  return WriterBase{Entity{w}, std::move(core), std::move(topic_name), autodispose};
 }
 
 WriterBase& WriterBase::operator=(WriterBase&& other) noexcept {
@@ -37,6 +39,7 @@ WriterBase& WriterBase::operator=(WriterBase&& other) noexcept {
     entity_ = std::move(other.entity_);
     core_ = std::move(other.core_);
     topic_name_ = std::move(other.topic_name_);
+    autodispose_ = other.autodispose_;
   }
   return *this;
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -122,6 +123,92 @@ TEST_F(PubSub, DisposeAndUnregisterReachTheReaderAsInstanceStates) {
   const auto& last = received.back();
   EXPECT_EQ(last.sensor, "x");
   EXPECT_EQ(last.info.instance_state, InstanceState::Disposed);
+}
+
+TEST_F(PubSub, WithoutAutodisposeDisposeAndUnregisterStillDisposes) {
+  auto reader = make_reader();
+  auto qos = QosBuilder{}
+                 .reliable()
+                 .durability(Durability::TransientLocal)
+                 .keep_last(8)
+                 .liveliness(Liveliness::Automatic, 2s)
+                 .autodispose_unregistered_instances(false)
+                 .build();
+  EXPECT_EQ(read_settings(qos).autodispose_unregistered_instances, false);
+  auto writer = Writer<sf_ddstest_Reading>::create(*pub_participant, *pub_topic, qos);
+  ASSERT_TRUE(writer.ok());
+  EXPECT_FALSE(writer->autodispose());
+  EXPECT_TRUE(make_writer().autodispose());  // the policy's default
+  ASSERT_TRUE(wait_matched(*writer, 1));
+  ASSERT_TRUE(writer->write(reading("y", 3)).ok());
+  ASSERT_TRUE(writer->dispose_and_unregister(reading("y", 0)).ok());
+  ASSERT_TRUE(pump_until(executor, [&] {
+    return !received.empty() && received.back().info.instance_state == InstanceState::Disposed;
+  }));
+  EXPECT_EQ(received.back().sensor, "y");
+}
+
+TEST_F(PubSub, InlineHandlersMayWriteToReadersOfTheirOwnProcess) {
+  // A handler run inline on Cyclone's thread writes; Cyclone delivers that
+  // write to a reader of this process on the same thread, whose listener posts
+  // back into the executor. The post is queued behind the running handler,
+  // never nested in it, and nothing deadlocks.
+  auto echo_topic = Topic<sf_ddstest_Reading>::create(*sub_participant, "Echoes");
+  auto echo_topic_pub = Topic<sf_ddstest_Reading>::create(*pub_participant, "Echoes");
+  ASSERT_TRUE(echo_topic.ok() && echo_topic_pub.ok());
+  auto echo_writer = Writer<sf_ddstest_Reading>::create(*sub_participant, *echo_topic, endpoint_qos());
+  ASSERT_TRUE(echo_writer.ok());
+  int depth = 0;
+  int max_depth = 0;
+  int handled = 0;
+  std::vector<std::int64_t> echoed;
+  auto echo_reader =
+      Reader<sf_ddstest_Reading>::create(*pub_participant, *echo_topic_pub, endpoint_qos(), &executor,
+                                         [&](const sf_ddstest_Reading& r, const SampleInfo& i) {
+                                           if (i.valid_data) {
+                                             echoed.push_back(r.value);
+                                           }
+                                         });
+  ASSERT_TRUE(echo_reader.ok());
+  auto reader = Reader<sf_ddstest_Reading>::create(
+      *sub_participant, *sub_topic, endpoint_qos(), &executor,
+      [&](const sf_ddstest_Reading& r, const SampleInfo& i) {
+        max_depth = std::max(max_depth, ++depth);
+        ++handled;
+        if (i.valid_data) {
+          EXPECT_TRUE(echo_writer->write(reading("echo" + std::to_string(r.value), r.value * 10)).ok());
+        }
+        --depth;
+      });
+  ASSERT_TRUE(reader.ok());
+  auto writer = make_writer();
+  ASSERT_TRUE(wait_matched(writer, 1));
+  ASSERT_TRUE(pump_until(executor, [&] {
+    auto m = echo_writer->publication_matched();
+    return m.ok() && m->current_count >= 1;
+  }));
+  {
+    const auto strand = executor.hold();
+    executor.set_inline(true);
+  }
+  for (std::int64_t v = 1; v <= 50; ++v) {  // one instance each: KEEP_LAST(8) drops none
+    ASSERT_TRUE(writer.write(reading("x" + std::to_string(v), v)).ok());
+  }
+  const auto all_echoed = [&] {
+    const auto strand = executor.hold();
+    return echoed.size() >= 50;
+  };
+  ASSERT_TRUE(pump_until(executor, all_echoed)) << echoed.size() << " echoed of " << handled << " handled";
+  {
+    const auto strand = executor.hold();
+    executor.set_inline(false);
+  }
+  EXPECT_EQ(max_depth, 1);
+  EXPECT_EQ(handled, 50);
+  ASSERT_EQ(echoed.size(), 50U);
+  for (std::int64_t v = 1; v <= 50; ++v) {
+    EXPECT_EQ(echoed[static_cast<std::size_t>(v - 1)], v * 10);
+  }
 }
 
 TEST_F(PubSub, PartitionsKeepRunsApart) {

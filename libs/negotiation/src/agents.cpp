@@ -95,12 +95,21 @@ bool ProductAgent::discovered() {
   return everyone && now - peers_changed_at_ >= config_.discovery_settle;
 }
 
-void ProductAgent::start_more() {
-  const std::size_t limit = config_.parallel == 0 ? products_.size() : config_.parallel;
-  std::size_t running = 0;
+std::size_t ProductAgent::running() const {
+  std::size_t n = 0;
   for (auto it = products_.begin(); it != next_; ++it) {
-    running += it->finished() ? 0U : 1U;
+    n += it->finished() ? 0U : 1U;
   }
+  return n;
+}
+
+std::size_t ProductAgent::parallel_limit() const {
+  return config_.parallel == 0 ? products_.size() : config_.parallel;
+}
+
+void ProductAgent::start_more() {
+  const std::size_t limit = parallel_limit();
+  std::size_t running = this->running();
   while (next_ != products_.end() && running < limit) {
     // A product that cannot start (bad name, ...) finishes at once with its error.
     (void)next_->start();
@@ -129,6 +138,9 @@ std::optional<Clock::time_point> ProductAgent::next_deadline() const {
   if (!started_) {
     return clock_->now() + std::chrono::milliseconds{10};
   }
+  if (next_ != products_.end() && running() < parallel_limit()) {
+    return clock_->now();  // a product finished and the next may start: tick() starts it
+  }
   auto next = manager_->next_deadline();
   if (planner_) {
     if (auto p = planner_->next_deadline(); p && (!next || *p < *next)) {
@@ -152,19 +164,77 @@ std::size_t ProductAgent::failed() const {
                                                 [](const Product& p) { return p.finished() && !p.ok(); }));
 }
 
+namespace {
+
+// The earliest timer of the agents; `all_finished` when every agent is done.
+std::optional<Clock::time_point> next_deadline(const std::vector<Agent*>& agents, bool& all_finished) {
+  std::optional<Clock::time_point> next;
+  all_finished = !agents.empty();
+  for (Agent* a : agents) {
+    if (auto d = a->next_deadline(); d && (!next || *d < *next)) {
+      next = d;
+    }
+    all_finished = all_finished && a->finished();
+  }
+  return next;
+}
+
+// Inline delivery for the duration of run_agents. A message handled inline
+// wakes the loop only when it moved a timer before the loop's wake-up time
+// (or finished the last agent); the reply it sent needs no wake-up.
+class InlineDelivery {
+ public:
+  InlineDelivery(dds::Executor& executor, const std::vector<Agent*>& agents, bool on)
+      : executor_(executor), on_(on) {
+    if (!on_) {
+      return;
+    }
+    const auto strand = executor_.hold();
+    executor_.set_wake_check([this, &agents] {
+      bool all_finished = false;
+      const auto next = next_deadline(agents, all_finished);
+      return all_finished || (next && (!sleeps_until_ || *next < *sleeps_until_));
+    });
+    executor_.set_inline(true);
+  }
+  ~InlineDelivery() {
+    if (on_) {
+      const auto strand = executor_.hold();
+      executor_.set_inline(false);
+      executor_.set_wake_check({});
+    }
+  }
+  InlineDelivery(const InlineDelivery&) = delete;
+  InlineDelivery& operator=(const InlineDelivery&) = delete;
+  // Under the strand.
+  void sleeps_until(std::optional<Clock::time_point> t) { sleeps_until_ = t; }
+
+ private:
+  dds::Executor& executor_;
+  bool on_;
+  std::optional<Clock::time_point> sleeps_until_;
+};
+
+}  // namespace
+
 void run_agents(dds::Executor& executor, const Clock& clock, const std::vector<Agent*>& agents,
-                const std::function<bool()>& stop) {
+                const std::function<bool()>& stop, RunOptions options) {
   constexpr std::chrono::nanoseconds kMaxWait = std::chrono::milliseconds{100};
-  while (!stop()) {
-    executor.run_pending();
+  InlineDelivery delivery{executor, agents, options.inline_delivery};
+  while (true) {
+    bool all_finished = false;
     std::optional<Clock::time_point> next;
-    bool all_finished = !agents.empty();
-    for (Agent* a : agents) {
-      a->tick();
-      if (auto d = a->next_deadline(); d && (!next || *d < *next)) {
-        next = d;
+    {
+      const auto strand = executor.hold();
+      if (stop()) {
+        return;
       }
-      all_finished = all_finished && a->finished();
+      executor.run_pending();
+      for (Agent* a : agents) {
+        a->tick();
+      }
+      next = next_deadline(agents, all_finished);
+      delivery.sleeps_until(next);
     }
     if (all_finished) {
       return;

@@ -112,6 +112,13 @@ double percentile(const std::vector<double>& sorted, double p) {
 class Driver {
  public:
   Driver(const BenchOptions& o, const DdsSettings& s) : options_(o), settings_(s) {}
+  Driver(const Driver&) = delete;
+  Driver& operator=(const Driver&) = delete;
+  ~Driver() {
+    // Nothing may run inline on a DDS thread while the members go.
+    const auto strand = executor_.hold();
+    executor_.set_inline(false);
+  }
 
   Status setup(const std::function<void(std::string_view)>& progress) {
     executor_.set_spin(options_.spin);
@@ -139,6 +146,19 @@ class Driver {
       }
       pump();
     }
+    if (options_.inline_delivery) {
+      const auto strand = executor_.hold();
+      // Wake the pumping thread only for what it waits for, or for a
+      // contractor's timer (in-process contractors finish work in tick()).
+      executor_.set_wake_check([this] {
+        const auto now = clock_.now();
+        return (done_ && done_()) || std::any_of(machines_.begin(), machines_.end(), [&](const auto& m) {
+                 const auto d = m->next_deadline();
+                 return d && *d <= now;
+               });
+      });
+      executor_.set_inline(true);
+    }
     return {};
   }
 
@@ -147,6 +167,8 @@ class Driver {
     std::vector<double> latencies;
     for (std::size_t i = 0; i < n; ++i) {
       bool confirmed = false;
+      bool done = false;
+      auto strand = executor_.hold();
       auto id = manager_->negotiate(
           {"bench", "OP1", {}, {}},
           {[&](const Conversation& c) {
@@ -154,12 +176,16 @@ class Driver {
              latencies.push_back(
                  std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
            },
-           {},
+           [&](const Conversation&) { done = true; },
            {}});
       if (!id) {
         return id.error();
       }
-      SF_TRY(pump_until([&] { return confirmed; }));
+      strand.unlock();
+      // The next starts once this conversation has ended (INFORM-DONE): one
+      // negotiation at a time means the contractor's report of the work is
+      // not measured as part of the next one.
+      SF_TRY(pump_until([&] { return confirmed && done; }));
     }
     return latencies;
   }
@@ -171,6 +197,7 @@ class Driver {
     const auto t0 = clock_.now();
     while (confirmed < n) {
       while (started < n && started - confirmed < window) {
+        const auto strand = executor_.hold();
         auto id = manager_->negotiate({"bench", "OP1", {}, {}},
                                       {[&](const Conversation&) { ++confirmed; }, {}, {}});
         if (!id) {
@@ -224,7 +251,9 @@ class Driver {
            "--conveying-domain",
            std::to_string(settings_.conveying_domain),
            "--spin-us",
-           std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(options_.spin).count())},
+           std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(options_.spin).count()),
+           "--delivery",
+           options_.inline_delivery ? "inline" : "queued"},
           {}, "/dev/null");
       if (!child) {
         return child.error();
@@ -235,25 +264,43 @@ class Driver {
   }
 
   void pump() {
-    executor_.run_pending();
-    manager_->tick();
-    for (auto& m : machines_) {
-      m->tick();
+    {
+      const auto strand = executor_.hold();
+      executor_.run_pending();
+      manager_->tick();
+      for (auto& m : machines_) {
+        m->tick();
+      }
     }
     if (executor_.pending() == 0) {
       executor_.wait_for(1ms);
     }
   }
 
-  Status pump_until(const std::function<bool()>& done) {
+  // Pumps until done() (called under the strand) is true.
+  Status pump_until(std::function<bool()> done) {
     const auto end = clock_.now() + 60s;
-    while (!done()) {
+    set_done(std::move(done));
+    while (true) {
+      {
+        const auto strand = executor_.hold();
+        if (done_()) {
+          break;
+        }
+      }
       if (clock_.now() > end) {
+        set_done({});
         return Error{Errc::timeout, "a negotiation did not complete within 60 s"};
       }
       pump();
     }
+    set_done({});
     return {};
+  }
+
+  void set_done(std::function<bool()> done) {
+    const auto strand = executor_.hold();
+    done_ = std::move(done);
   }
 
   const BenchOptions& options_;
@@ -264,6 +311,7 @@ class Driver {
   std::unique_ptr<ProductEndpoints> endpoints_;
   std::unique_ptr<Manager> manager_;
   std::vector<std::unique_ptr<MachineAgent>> machines_;
+  std::function<bool()> done_;  // what pump_until waits for; under the strand
 };
 
 }  // namespace

@@ -1,6 +1,6 @@
 // QoS: an owned dds_qos_t and a builder for the policies the shop floor uses
 // (DDS 1.4 §2.2.3: RELIABILITY, DURABILITY, DEADLINE, LIVELINESS, HISTORY,
-// PARTITION, ENTITY_NAME / USER_DATA). QosSettings reads a QoS back, so tests
+// PARTITION, ENTITY_NAME / USER_DATA, WRITER_DATA_LIFECYCLE). QosSettings reads a QoS back, so tests
 // can check what an entity really got.
 #pragma once
 
@@ -55,6 +55,7 @@ struct QosSettings {
   std::optional<std::vector<std::string>> partitions;
   std::optional<std::string> entity_name;
   std::optional<std::string> user_data;
+  std::optional<bool> autodispose_unregistered_instances;
 };
 
 // Reads the policies of a QoS back.
@@ -76,6 +77,9 @@ class QosBuilder {
   QosBuilder& partition(std::string name);
   QosBuilder& entity_name(std::string name);
   QosBuilder& user_data(std::string data);
+  // WRITER_DATA_LIFECYCLE (DDS 1.4 §2.2.3.21; default true): unregistering an
+  // instance also disposes it, in the same message.
+  QosBuilder& autodispose_unregistered_instances(bool on);
 
   [[nodiscard]] Qos build() const;
   [[nodiscard]] const QosSettings& settings() const { return s_; }

@@ -32,6 +32,8 @@ class WriterBase {
   [[nodiscard]] Result<Qos> qos() const;
   // For MANUAL_BY_* liveliness: this writer is alive.
   Status assert_liveliness() const;
+  // WRITER_DATA_LIFECYCLE.autodispose_unregistered_instances as created.
+  [[nodiscard]] bool autodispose() const { return autodispose_; }
 
  protected:
   static Result<WriterBase> create_raw(const Participant& participant, dds_entity_t topic,
@@ -42,13 +44,18 @@ class WriterBase {
   Status unregister_raw(const void* sample) const;
 
  private:
-  WriterBase(Entity entity, std::shared_ptr<detail::ListenerCore> core, std::string topic_name)
-      : entity_(std::move(entity)), core_(std::move(core)), topic_name_(std::move(topic_name)) {}
+  WriterBase(Entity entity, std::shared_ptr<detail::ListenerCore> core, std::string topic_name,
+             bool autodispose)
+      : entity_(std::move(entity)),
+        core_(std::move(core)),
+        topic_name_(std::move(topic_name)),
+        autodispose_(autodispose) {}
   void close();
 
   Entity entity_;
   std::shared_ptr<detail::ListenerCore> core_;
   std::string topic_name_;
+  bool autodispose_ = true;
 };
 
 template <typename T>
@@ -69,8 +76,12 @@ class Writer : public WriterBase {
   Status unregister(const T& key) const { return unregister_raw(&key); }
   // The end of a conversation: dispose, then let go of the instance so the
   // writer's history forgets it (TRANSIENT_LOCAL late joiners won't see it).
+  // With autodispose_unregistered_instances (the default) the unregister
+  // carries the dispose: one message to every reader instead of two.
   Status dispose_and_unregister(const T& key) const {
-    SF_TRY(dispose(key));
+    if (!autodispose()) {
+      SF_TRY(dispose(key));
+    }
     return unregister(key);
   }
 

@@ -2,7 +2,8 @@
 // DDS: a machine (contractor), a conveyor, and a product process (manager of
 // one or more products). Each agent owns its DDS endpoints and its state
 // machine; run_agents() drives any number of agents on one thread: it drains
-// the executor (where DDS deliveries land) and fires their timers.
+// the executor (where DDS deliveries land) and fires their timers, or lets
+// deliveries run inline on Cyclone's threads under the executor's strand.
 #pragma once
 
 #include <chrono>
@@ -103,6 +104,8 @@ class ProductAgent final : public Agent {
  private:
   [[nodiscard]] bool discovered();
   void start_more();
+  [[nodiscard]] std::size_t running() const;
+  [[nodiscard]] std::size_t parallel_limit() const;
 
   ProductAgentConfig config_;
   const Clock* clock_ = nullptr;
@@ -117,8 +120,16 @@ class ProductAgent final : public Agent {
   bool started_ = false;
 };
 
+struct RunOptions {
+  // Messages are handled on the DDS thread that received them (the executor's
+  // inline delivery) instead of waking this thread for each: one thread
+  // wake-up less per message. Off again when run_agents returns.
+  bool inline_delivery = false;
+};
+
 // Runs until stop() is true or every agent that can finish has finished.
+// stop() runs under the executor's strand, so it may look at the agents.
 void run_agents(dds::Executor& executor, const Clock& clock, const std::vector<Agent*>& agents,
-                const std::function<bool()>& stop);
+                const std::function<bool()>& stop, RunOptions options = {});
 
 }  // namespace sf::negotiation

@@ -27,6 +27,7 @@ struct BenchOptions {
   std::size_t window = 8;           // negotiations in flight in the throughput phase
   std::size_t warmup = 20;
   std::chrono::nanoseconds spin{0};  // executor spin before blocking (here and in contractor processes)
+  bool inline_delivery = true;       // handle messages on the DDS thread (RunOptions), here and in processes
   DdsSettings dds;
   bool ddsperf = true;
   std::string ddsperf_binary = "ddsperf";

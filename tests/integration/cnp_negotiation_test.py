@@ -9,6 +9,7 @@ import json
 import os
 import shutil
 import tempfile
+import time
 import uuid
 
 from sftest import Background, binary, check, fail, run
@@ -138,7 +139,35 @@ def main():
                 check(hop == award["contractor"], f"{product}: segments end at {award['contractor']}")
                 at = award["contractor"]
     check(total == 3 * 3 + 2 * 2, f"{total} negotiations checked")
+    check_exit_with_parent(sf, tmp)
     shutil.rmtree(tmp, ignore_errors=True)  # kept only when a check failed
+
+
+def alive(pid):
+    """True while the process exists and is not a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def check_exit_with_parent(sf, tmp):
+    """An agent started with --exit-with-parent stops when the process that started it dies (as the
+    contractor processes of `cnp bench` do when the benchmark is killed)."""
+    ready = os.path.join(tmp, "orphan.log")
+    # The shell starts the machine, waits until it is ready, prints its pid and exits.
+    script = (f'"$0" agent machine --name orphan --ops OP1 --partition {PARTITION}-orphan --json '
+              f'--exit-with-parent > "{ready}" 2>&1 & pid=$!; '
+              f'while ! grep -q ready "{ready}"; do sleep 0.05; done; echo $pid')
+    pid = int(run(["sh", "-c", script, sf], timeout=60).stdout.strip())
+    deadline = time.monotonic() + 20
+    while alive(pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if alive(pid):
+        os.kill(pid, 9)
+        fail(f"machine {pid} still runs after its parent exited")
+    check(True, "an agent with --exit-with-parent stops when its parent exits")
 
 
 if __name__ == "__main__":

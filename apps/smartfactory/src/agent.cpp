@@ -2,6 +2,7 @@
 // the shop-floor entities of the paper (§IV.B) as processes that negotiate
 // over DDS with the Contract Net Protocol, and the negotiation benchmark.
 // Everything here parses options and prints; the negotiation module does the work.
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <array>
@@ -40,6 +41,7 @@ struct DdsCliOptions {
   unsigned lease_ms = 1000;
   unsigned spin_us = 0;
   std::string delivery = "inline";
+  bool exit_with_parent = false;
   bool json = false;
   bool layout = false;
 };
@@ -70,6 +72,9 @@ void add_dds_options(CLI::App& cmd, DdsCliOptions& o) {
                  "wake-up less per message), 'queued' on the agent's own thread")
       ->check(CLI::IsMember({"inline", "queued"}))
       ->capture_default_str();
+  cmd.add_flag("--exit-with-parent", o.exit_with_parent,
+               "Stop (as on SIGTERM) when the process that started this one dies, e.g. a benchmark "
+               "killed before it could stop its agents");
   cmd.add_flag("--json", o.json, "Print events (or the result) as JSON on stdout");
 }
 
@@ -119,6 +124,18 @@ void print_layout(const std::vector<const dds::Participant*>& participants, bool
   for (const auto& p : all) {
     say(fmt::format("layout {} (domain {}): {} readers, {} writers", p["participant"].get<std::string>(),
                     p["domain"].get<unsigned>(), p["readers"].size(), p["writers"].size()));
+  }
+}
+
+// The kernel sends SIGTERM when the parent dies (Linux PR_SET_PDEATHSIG). Called first thing,
+// so that the parent's death is noticed from then on (it may not be stopped by then yet).
+void exit_with_parent(const DdsCliOptions& o) {
+  if (o.exit_with_parent) {
+    const pid_t parent = getppid();
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) {  // died in between
+      raise(SIGTERM);
+    }
   }
 }
 
@@ -222,6 +239,7 @@ cnp::ContractorEvents machine_events(const MachineCliOptions& o, std::shared_ptr
 }
 
 int run_machine(const MachineCliOptions& o) {
+  exit_with_parent(o.dds);
   auto ops = cnp::parse_operations(o.ops);
   auto hook = parse_kill_hook(o.kill_after);
   if (!ops || !hook) {
@@ -294,6 +312,7 @@ struct ConveyorCliOptions {
 };
 
 int run_conveyor(const ConveyorCliOptions& o) {
+  exit_with_parent(o.dds);
   dds::Executor ex;
   ex.set_spin(std::chrono::microseconds{o.dds.spin_us});
   auto agent = cnp::ConveyorAgent::create(dds_settings(o.dds),
@@ -429,6 +448,7 @@ Result<cnp::ProductAgentConfig> product_config(const ProductCliOptions& o) {
 }
 
 int run_product(const ProductCliOptions& o) {
+  exit_with_parent(o.dds);
   auto cfg = product_config(o);
   if (!cfg) {
     std::cerr << "agent product: " << cfg.error().message << "\n";

@@ -28,8 +28,12 @@ Result<WriterBase> WriterBase::create_raw(const Participant& participant, dds_en
   if (core) {
     core->entity.store(w);
   }
-  bool autodispose = true;  // the policy's default when the QoS does not set it
-  dds_qget_writer_data_lifecycle(qos.get(), &autodispose);
+  // As the writer got it (the publisher's QoS may set it); true, the
+  // policy's default, if it cannot be read.
+  bool autodispose = true;
+  if (Qos effective; dds_get_qos(w, effective.get()) == DDS_RETCODE_OK) {
+    dds_qget_writer_data_lifecycle(effective.get(), &autodispose);
+  }
   return WriterBase{Entity{w}, std::move(core), std::move(topic_name), autodispose};
 }
 

@@ -100,7 +100,7 @@ TEST(ExecutorInline, WhileTheStrandIsHeldTasksWaitForTheApplicationThread) {
   EXPECT_TRUE(ran);
 }
 
-TEST(ExecutorInline, APostFromATaskRunsAfterItNotInsideIt) {
+TEST(ExecutorInline, APostFromATaskIsQueuedNotRunInsideIt) {
   Executor ex;
   ex.set_inline(true);
   std::vector<std::string> order;
@@ -109,9 +109,23 @@ TEST(ExecutorInline, APostFromATaskRunsAfterItNotInsideIt) {
     ex.post([&] { order.emplace_back("inner"); });
     order.emplace_back("outer ends");
   });
-  // Both ran before post() returned: the inner one drained after the outer.
+  // The outer one ran at once; the inner one waits for the application thread.
+  EXPECT_EQ(order, (std::vector<std::string>{"outer begins", "outer ends"}));
+  EXPECT_EQ(ex.pending(), 1U);
+  EXPECT_EQ(ex.run_pending(), 1U);
   EXPECT_EQ(order, (std::vector<std::string>{"outer begins", "outer ends", "inner"}));
-  EXPECT_EQ(ex.pending(), 0U);
+}
+
+TEST(ExecutorInline, ATaskDoesNotOvertakeQueuedOnes) {
+  Executor ex;
+  std::vector<int> order;
+  ex.post([&] { order.push_back(1); });  // queued: inline delivery is off
+  ex.set_inline(true);
+  ex.post([&] { order.push_back(2); });  // queued behind the first, not run now
+  EXPECT_TRUE(order.empty());
+  EXPECT_EQ(ex.run_pending(), 2U);
+  ex.post([&] { order.push_back(3); });  // queue empty: inline
+  EXPECT_EQ(order, (std::vector<int>{1, 2, 3}));
 }
 
 TEST(ExecutorInline, TheWakeCheckDecidesWhetherTheApplicationThreadWakes) {
@@ -122,14 +136,19 @@ TEST(ExecutorInline, TheWakeCheckDecidesWhetherTheApplicationThreadWakes) {
     const auto strand = ex.hold();
     ex.set_wake_check([&] { return wake; });
   }
+  using Clock = std::chrono::steady_clock;
   ex.post([] {});
-  // Not woken: the wait runs out (nothing queued, no notification).
+  // Not woken: the wait runs its full length (a condition variable wait with a
+  // predicate does not return early without a notification).
+  auto t0 = Clock::now();
   EXPECT_FALSE(ex.wait_for(std::chrono::milliseconds{20}));
+  EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds{20});
   wake = true;
   ex.post([] {});
-  const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_FALSE(ex.wait_for(std::chrono::hours{1}));  // returns: notified, nothing queued
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::hours{1});
+  // Woken: returns (nothing queued) long before the bound.
+  t0 = Clock::now();
+  EXPECT_FALSE(ex.wait_for(std::chrono::seconds{30}));
+  EXPECT_LT(Clock::now() - t0, std::chrono::seconds{30});
 }
 
 TEST(ExecutorInline, TurnedOffUnderTheStrandNothingRunsInlineAnyMore) {

@@ -149,10 +149,10 @@ TEST_F(PubSub, WithoutAutodisposeDisposeAndUnregisterStillDisposes) {
 }
 
 TEST_F(PubSub, InlineHandlersMayWriteToReadersOfTheirOwnProcess) {
-  // A handler run inline on Cyclone's thread writes; Cyclone delivers that
-  // write to a reader of this process on the same thread, whose listener posts
-  // back into the executor. The post is queued behind the running handler,
-  // never nested in it, and nothing deadlocks.
+  // A handler run inline writes; Cyclone delivers that write to a reader of
+  // this process on the same thread, whose listener posts back into the
+  // executor. The post is queued for the application thread, never run nested
+  // in the handler, and nothing deadlocks.
   auto echo_topic = Topic<sf_ddstest_Reading>::create(*sub_participant, "Echoes");
   auto echo_topic_pub = Topic<sf_ddstest_Reading>::create(*pub_participant, "Echoes");
   ASSERT_TRUE(echo_topic.ok() && echo_topic_pub.ok());
@@ -160,11 +160,14 @@ TEST_F(PubSub, InlineHandlersMayWriteToReadersOfTheirOwnProcess) {
   ASSERT_TRUE(echo_writer.ok());
   int depth = 0;
   int max_depth = 0;
+  int nested_echoes = 0;
   int handled = 0;
   std::vector<std::int64_t> echoed;
   auto echo_reader =
       Reader<sf_ddstest_Reading>::create(*pub_participant, *echo_topic_pub, endpoint_qos(), &executor,
                                          [&](const sf_ddstest_Reading& r, const SampleInfo& i) {
+                                           // Run inside the handler whose write it is?
+                                           nested_echoes += depth > 0 ? 1 : 0;
                                            if (i.valid_data) {
                                              echoed.push_back(r.value);
                                            }
@@ -204,6 +207,7 @@ TEST_F(PubSub, InlineHandlersMayWriteToReadersOfTheirOwnProcess) {
     executor.set_inline(false);
   }
   EXPECT_EQ(max_depth, 1);
+  EXPECT_EQ(nested_echoes, 0);
   EXPECT_EQ(handled, 50);
   ASSERT_EQ(echoed.size(), 50U);
   for (std::int64_t v = 1; v <= 50; ++v) {

@@ -180,20 +180,22 @@ std::optional<Clock::time_point> next_deadline(const std::vector<Agent*>& agents
 }
 
 // Inline delivery for the duration of run_agents. A message handled inline
-// wakes the loop only when it moved a timer before the loop's wake-up time
-// (or finished the last agent); the reply it sent needs no wake-up.
+// wakes the loop only when it moved a timer before the loop's wake-up time,
+// finished the last agent or made stop() true; the reply it sent needs no
+// wake-up.
 class InlineDelivery {
  public:
-  InlineDelivery(dds::Executor& executor, const std::vector<Agent*>& agents, bool on)
+  InlineDelivery(dds::Executor& executor, const std::vector<Agent*>& agents,
+                 const std::function<bool()>& stop, bool on)
       : executor_(executor), on_(on) {
     if (!on_) {
       return;
     }
     const auto strand = executor_.hold();
-    executor_.set_wake_check([this, &agents] {
+    executor_.set_wake_check([this, &agents, &stop] {
       bool all_finished = false;
       const auto next = next_deadline(agents, all_finished);
-      return all_finished || (next && (!sleeps_until_ || *next < *sleeps_until_));
+      return all_finished || (next && (!sleeps_until_ || *next < *sleeps_until_)) || stop();
     });
     executor_.set_inline(true);
   }
@@ -220,7 +222,7 @@ class InlineDelivery {
 void run_agents(dds::Executor& executor, const Clock& clock, const std::vector<Agent*>& agents,
                 const std::function<bool()>& stop, RunOptions options) {
   constexpr std::chrono::nanoseconds kMaxWait = std::chrono::milliseconds{100};
-  InlineDelivery delivery{executor, agents, options.inline_delivery};
+  InlineDelivery delivery{executor, agents, stop, options.inline_delivery};
   while (true) {
     bool all_finished = false;
     std::optional<Clock::time_point> next;

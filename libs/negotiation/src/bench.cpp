@@ -187,6 +187,7 @@ class Driver {
       // not measured as part of the next one.
       SF_TRY(pump_until([&] { return confirmed && done; }));
     }
+    const auto strand = executor_.hold();
     return latencies;
   }
 
@@ -195,17 +196,24 @@ class Driver {
     std::size_t started = 0;
     std::size_t confirmed = 0;
     const auto t0 = clock_.now();
-    while (confirmed < n) {
-      while (started < n && started - confirmed < window) {
+    while (true) {
+      std::size_t before = 0;
+      {
+        // `confirmed` changes in handlers, which may run on DDS threads.
         const auto strand = executor_.hold();
-        auto id = manager_->negotiate({"bench", "OP1", {}, {}},
-                                      {[&](const Conversation&) { ++confirmed; }, {}, {}});
-        if (!id) {
-          return id.error();
+        if (confirmed >= n) {
+          break;
         }
-        ++started;
+        while (started < n && started - confirmed < window) {
+          auto id = manager_->negotiate({"bench", "OP1", {}, {}},
+                                        {[&](const Conversation&) { ++confirmed; }, {}, {}});
+          if (!id) {
+            return id.error();
+          }
+          ++started;
+        }
+        before = confirmed;
       }
-      const auto before = confirmed;
       SF_TRY(pump_until([&] { return confirmed > before; }));
     }
     return static_cast<double>(n) / std::chrono::duration<double>(clock_.now() - t0).count();
@@ -253,7 +261,8 @@ class Driver {
            "--spin-us",
            std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(options_.spin).count()),
            "--delivery",
-           options_.inline_delivery ? "inline" : "queued"},
+           options_.inline_delivery ? "inline" : "queued",
+           "--exit-with-parent"},
           {}, "/dev/null");
       if (!child) {
         return child.error();

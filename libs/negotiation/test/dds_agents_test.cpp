@@ -132,10 +132,13 @@ struct Recorder {
   }
 };
 
-// Every negotiation test runs with messages handled on the agents' thread
-// (queued) and on Cyclone's receive threads (inline). In one process Cyclone
-// delivers a write to a local reader on the writing thread, so inline
-// handlers also meet writes that call back into the executor.
+// Every negotiation test runs with queued and with inline delivery. In one
+// process Cyclone delivers a write to a local reader on the writing thread,
+// which holds the strand, so most messages are queued either way; the inline
+// variant checks the strand and wake-up bookkeeping of run_agents with
+// Cyclone's own threads (discovery, liveliness) posting. Inline handling of
+// messages from other processes is what the cnp_* integration tests run (the
+// agent CLI's default).
 class DdsNegotiation : public ::testing::TestWithParam<bool> {
  protected:
   bool run_until(dds::Executor& ex, const std::vector<Agent*>& agents, const std::function<bool()>& done,

@@ -4,18 +4,26 @@
 //  - queued delivery (default): tasks wait in the queue until the application
 //    thread drains it (run_pending), so handlers run only on that thread;
 //  - inline delivery (set_inline): a listener thread that finds the strand
-//    free runs the task at once, on that thread, holding the strand. This
-//    saves the wake-up of the application thread per message (tens of
-//    microseconds on a virtual machine), which dominates a request/response
-//    exchange. The application thread takes the strand with hold() for
-//    everything it does with the objects the tasks touch.
+//    free and nothing queued runs the task at once, on that thread, holding
+//    the strand. This saves the wake-up of the application thread per
+//    message (tens of microseconds on a virtual machine), which dominates a
+//    request/response exchange. The application thread takes the strand with
+//    hold() for everything it does with the objects the tasks touch.
 // A listener never blocks on the strand: when it is taken (by the
 // application, by another listener thread, or by the task that caused the
-// callback on the same thread, e.g. a write delivered locally), the task is
-// queued and runs after the task in progress or at the next run_pending().
-// Never blocking matters: Cyclone waits for a listener in progress before it
-// calls that listener again, so a listener blocked on the strand held by a
-// thread that writes to its reader would deadlock.
+// callback on the same thread, e.g. a write delivered locally), or tasks are
+// queued already (order is kept), the task is queued for the application
+// thread's next run_pending(). Never blocking matters: Cyclone waits for a
+// listener in progress before it calls that listener again, so a listener
+// blocked on the strand held by a thread that writes to its reader would
+// deadlock. For the same reason a listener thread runs only its own task,
+// never queued ones (they may write to the topic of the reader whose listener
+// the thread is in).
+// An inline task that writes blocks the receive thread for as long as the
+// write does: Cyclone blocks a RELIABLE write (up to max_blocking_time) when
+// the writer's unacknowledged data exceed its high-water mark, and the
+// acknowledgements arrive on the receive thread; small messages (the Contract
+// Net's) stay far below it.
 #pragma once
 
 #include <atomic>
@@ -77,8 +85,9 @@ class Executor {
   [[nodiscard]] std::size_t pending() const;
 
  private:
+  [[nodiscard]] bool may_run_inline() const;
   void enqueue(Task task);
-  // Runs `task`, then whatever was queued meanwhile; the strand is held.
+  // Runs `task` with the strand held, then the wake check.
   void run_inline(Task& task);
   std::size_t run_batch();
 
@@ -86,7 +95,7 @@ class Executor {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Task> tasks_;
-  bool notified_ = false;
+  std::atomic<bool> notified_{false};   // written under mutex_; read without it while spinning
   std::atomic<std::size_t> queued_{0};  // tasks_.size(), readable without the lock while spinning
   std::atomic<bool> inline_{false};
   std::function<bool()> wake_check_;

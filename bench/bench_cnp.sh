@@ -5,21 +5,23 @@
 # each run next to Cyclone's ddsperf ping/pong round trip measured in the same
 # run, as a ratio. In-process contractors: bench_cnp.
 #
-# Usage: bench/bench_cnp.sh [BUILD_DIR] [NEGOTIATIONS] [SPIN_US]
+# Usage: bench/bench_cnp.sh [BUILD_DIR] [NEGOTIATIONS] [SPIN_US] [DELIVERY: inline|queued]
 set -euo pipefail
 build=${1:-build/release}
 negotiations=${2:-500}
 spin=${3:-0}
+delivery=${4:-inline}
 sf="$build/apps/smartfactory/smartfactory"
 [ -x "$sf" ] || { echo "bench_cnp.sh: $sf not built" >&2; exit 1; }
 command -v ddsperf >/dev/null || echo "bench_cnp.sh: ddsperf not found (cyclonedds-tools); no ratio" >&2
 
-printf "contractor processes, %s negotiations per phase, executor spin %s us\n" "$negotiations" "$spin"
+printf "contractor processes, %s negotiations per phase, executor spin %s us, %s delivery\n" "$negotiations" "$spin" \
+  "$delivery"
 printf "%11s %9s %9s %9s %15s %13s %12s %8s\n" contractors "p50 us" "p99 us" "mean us" "one-at-a-time/s" \
   "8-in-flight/s" "ddsperf us" "ratio"
 for n in 1 4 16 64; do
   json=$(SF_LOG=warn "$sf" cnp bench --contractors "$n" --negotiations "$negotiations" --processes \
-           --spin-us "$spin" --json 2>/dev/null) || { echo "$n contractors: failed"; continue; }
+           --spin-us "$spin" --delivery "$delivery" --json 2>/dev/null) || { echo "$n contractors: failed"; continue; }
   python3 - "$json" <<'PY'
 import json, sys
 d = json.loads(sys.argv[1])

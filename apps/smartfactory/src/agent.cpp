@@ -561,9 +561,13 @@ json bench_json(const cnp::BenchResult& r) {
          {"window", r.window},
          {"renegotiations", r.renegotiations},
          {"failed", r.failed}};
-  j["ddsperf_rtt_p50_us"] = r.ddsperf_rtt_p50_us ? json(*r.ddsperf_rtt_p50_us) : json(nullptr);
-  j["ddsperf_rtt_mean_us"] = r.ddsperf_rtt_mean_us ? json(*r.ddsperf_rtt_mean_us) : json(nullptr);
-  j["ratio_p50"] = r.ratio_p50 ? json(*r.ratio_p50) : json(nullptr);
+  const auto value = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  j["ddsperf_rtt_p50_us"] = value(r.ddsperf_rtt_p50_us);
+  j["ddsperf_rtt_mean_us"] = value(r.ddsperf_rtt_mean_us);
+  j["ratio_p50"] = value(r.ratio_p50);
+  j["cpu_us_per_negotiation"] = value(r.cpu_us_per_negotiation);
+  j["ddsperf_cpu_us_per_round_trip"] = value(r.ddsperf_cpu_us_per_round_trip);
+  j["cpu_ratio"] = value(r.cpu_ratio);
   return j;
 }
 
@@ -597,6 +601,13 @@ int run_bench_cmd(const BenchCliOptions& o) {
   if (r->ddsperf_rtt_p50_us) {
     say(fmt::format("  ddsperf round trip to {} pongs p50 {:.1f} us: negotiation = {:.1f} round trips",
                     r->contractors, *r->ddsperf_rtt_p50_us, r->ratio_p50.value_or(0)));
+  }
+  if (r->cpu_us_per_negotiation) {
+    say(fmt::format("  CPU time of all processes: {:.1f} us per negotiation", *r->cpu_us_per_negotiation));
+  }
+  if (r->cpu_ratio) {
+    say(fmt::format("  ddsperf: {:.1f} us per round trip: negotiation = {:.1f} round trips of CPU",
+                    r->ddsperf_cpu_us_per_round_trip.value_or(0), *r->cpu_ratio));
   }
   return kExitOk;
 }

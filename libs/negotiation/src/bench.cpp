@@ -1,8 +1,10 @@
 #include "sf/negotiation/bench.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -62,7 +64,7 @@ class Child {
     return Child{pid};
   }
 
-  Child(Child&& o) noexcept : pid_(std::exchange(o.pid_, 0)) {}
+  Child(Child&& o) noexcept : pid_(std::exchange(o.pid_, 0)), cpu_at_exit_(o.cpu_at_exit_) {}
   Child& operator=(Child&&) = delete;
   ~Child() { stop(); }
 
@@ -70,14 +72,20 @@ class Child {
   bool wait(std::chrono::nanoseconds bound) {
     const auto end = std::chrono::steady_clock::now() + bound;
     while (pid_ > 0 && std::chrono::steady_clock::now() < end) {
-      if (waitpid(pid_, nullptr, WNOHANG) == pid_) {
+      rusage usage{};
+      if (wait4(pid_, nullptr, WNOHANG, &usage) == pid_) {
         pid_ = 0;
+        cpu_at_exit_ = to_ns(usage.ru_utime) + to_ns(usage.ru_stime);
         return true;
       }
       std::this_thread::sleep_for(10ms);
     }
     return pid_ == 0;
   }
+
+  [[nodiscard]] pid_t pid() const { return pid_; }
+  // The CPU time of a process that exited in wait().
+  [[nodiscard]] std::optional<std::chrono::nanoseconds> cpu_at_exit() const { return cpu_at_exit_; }
 
   void stop() {
     if (pid_ <= 0) {
@@ -93,8 +101,29 @@ class Child {
 
  private:
   explicit Child(pid_t pid) : pid_(pid) {}
+  static std::chrono::nanoseconds to_ns(const timeval& t) {
+    return std::chrono::seconds{t.tv_sec} + std::chrono::microseconds{t.tv_usec};
+  }
   pid_t pid_;
+  std::optional<std::chrono::nanoseconds> cpu_at_exit_;
 };
+
+// The CPU time of all `pids`; nullopt if one cannot be read.
+std::optional<std::chrono::nanoseconds> cpu_time_of(const std::vector<pid_t>& pids) {
+  std::chrono::nanoseconds total{0};
+  for (const pid_t pid : pids) {
+    const auto t = process_cpu_time(pid);
+    if (!t) {
+      return std::nullopt;
+    }
+    total += *t;
+  }
+  return total;
+}
+
+double microseconds(std::chrono::nanoseconds t) {
+  return std::chrono::duration<double, std::micro>(t).count();
+}
 
 std::string temp_path(std::string_view tag) {
   return fmt::format("/tmp/sf-cnp-bench-{}-{}.log", ::getpid(), tag);
@@ -222,6 +251,14 @@ class Driver {
   Status drain() {
     return pump_until([&] { return manager_->active() == 0; });
   }
+  // This process and the contractor processes.
+  [[nodiscard]] std::optional<std::chrono::nanoseconds> cpu_time() const {
+    std::vector<pid_t> pids{::getpid()};
+    for (const auto& c : children_) {
+      pids.push_back(c.pid());
+    }
+    return cpu_time_of(pids);
+  }
   const ManagerStats& stats() const { return manager_->stats(); }
 
  private:
@@ -348,7 +385,7 @@ LatencyStats latency_stats(std::vector<double> samples) {
 // ping once every pong has answered, so one cycle is a round trip to all of them, as an
 // ANNOUNCE/BID exchange is; it prints each pong's round trip per second, and the slowest pong of
 // a second is that second's fan-out round trip.
-Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
+Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   auto xml = dds::cyclone_config_xml(options.dds.network);
   if (!xml) {
     return xml.error();
@@ -378,7 +415,13 @@ Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
   if (!ping) {
     return ping.error();
   }
+  std::vector<pid_t> pong_pids;
+  for (const auto& pong : pong_processes) {
+    pong_pids.push_back(pong.pid());
+  }
+  const auto pongs_cpu0 = cpu_time_of(pong_pids);
   ping->wait(std::chrono::seconds{secs + initwait + 10});
+  const auto pongs_cpu1 = cpu_time_of(pong_pids);
   for (auto& pong : pong_processes) {
     pong.stop();
   }
@@ -387,7 +430,41 @@ Result<LatencyStats> run_ddsperf(const BenchOptions& options) {
   if (!stats) {
     return Error{Errc::not_found, fmt::format("{} printed no round-trip statistics", options.ddsperf_binary)};
   }
-  return *stats;
+  DdsperfResult result{*stats, std::nullopt};
+  // Every pong answers each ping once: the pongs' round trips / pongs are the pings. The CPU
+  // time includes discovery and ping's initial wait, a small share of a run of seconds.
+  const double round_trips = static_cast<double>(stats->samples) / static_cast<double>(pongs);
+  if (pongs_cpu0 && pongs_cpu1 && ping->cpu_at_exit() && round_trips > 0) {
+    result.cpu_us_per_round_trip =
+        microseconds(*pongs_cpu1 - *pongs_cpu0 + *ping->cpu_at_exit()) / round_trips;
+  }
+  return result;
+}
+
+std::optional<std::chrono::nanoseconds> process_cpu_time(int pid) {
+  const std::string dir = fmt::format("/proc/{}/task", pid);
+  DIR* tasks = ::opendir(dir.c_str());
+  if (tasks == nullptr) {
+    return std::nullopt;
+  }
+  std::int64_t total = 0;
+  bool any = false;
+  while (const dirent* e = ::readdir(tasks)) {
+    if (e->d_name[0] == '.') {
+      continue;
+    }
+    std::ifstream stat{fmt::format("{}/{}/schedstat", dir, e->d_name)};
+    std::int64_t on_cpu = 0;  // the first field: time spent on a CPU, in nanoseconds
+    if (stat >> on_cpu) {
+      total += on_cpu;
+      any = true;
+    }
+  }
+  ::closedir(tasks);
+  if (!any) {
+    return std::nullopt;
+  }
+  return std::chrono::nanoseconds{total};
 }
 
 std::optional<LatencyStats> parse_ddsperf_output(const std::string& path) {
@@ -451,9 +528,13 @@ Result<BenchResult> run_bench(const BenchOptions& options,
       return warm.error();
     }
     const auto t0 = std::chrono::steady_clock::now();
+    const auto cpu0 = driver.cpu_time();
     auto latencies = driver.sequential(options.negotiations);
     if (!latencies) {
       return latencies.error();
+    }
+    if (const auto cpu1 = driver.cpu_time(); cpu0 && cpu1) {
+      r.cpu_us_per_negotiation = microseconds(*cpu1 - *cpu0) / static_cast<double>(options.negotiations);
     }
     r.sequential_per_s = static_cast<double>(options.negotiations) /
                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -476,10 +557,15 @@ Result<BenchResult> run_bench(const BenchOptions& options,
     }
     auto perf = run_ddsperf(options);
     if (perf) {
-      r.ddsperf_rtt_p50_us = perf->p50_us;
-      r.ddsperf_rtt_mean_us = perf->mean_us;
-      if (perf->p50_us > 0) {
-        r.ratio_p50 = r.latency.p50_us / perf->p50_us;
+      const auto& rtt = perf->round_trip;
+      r.ddsperf_rtt_p50_us = rtt.p50_us;
+      r.ddsperf_rtt_mean_us = rtt.mean_us;
+      if (rtt.p50_us > 0) {
+        r.ratio_p50 = r.latency.p50_us / rtt.p50_us;
+      }
+      r.ddsperf_cpu_us_per_round_trip = perf->cpu_us_per_round_trip;
+      if (r.cpu_us_per_negotiation && perf->cpu_us_per_round_trip && *perf->cpu_us_per_round_trip > 0) {
+        r.cpu_ratio = *r.cpu_us_per_negotiation / *perf->cpu_us_per_round_trip;
       }
     } else if (progress) {
       progress(fmt::format("ddsperf skipped: {}", perf.error().describe()));

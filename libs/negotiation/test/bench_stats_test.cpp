@@ -2,7 +2,9 @@
 // that second's round trip to all pongs.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 
 #include <unistd.h>
@@ -42,6 +44,21 @@ TEST(DdsperfOutput, NoRoundTripLinesIsNothing) {
   EXPECT_FALSE(parse_ddsperf_output(path).has_value());
   std::remove(path.c_str());
   EXPECT_FALSE(parse_ddsperf_output("/nonexistent/ddsperf.out").has_value());
+}
+
+TEST(ProcessCpuTime, GrowsWithWorkAndIsNothingForAProcessThatIsGone) {
+  const auto before = process_cpu_time(::getpid());
+  ASSERT_TRUE(before.has_value());
+  // Work until this process's clock says 20 ms of CPU were used.
+  volatile std::uint64_t sink = 0;
+  const auto start = std::clock();
+  while (std::clock() - start < CLOCKS_PER_SEC / 50) {
+    sink = sink + 1;
+  }
+  const auto after = process_cpu_time(::getpid());
+  ASSERT_TRUE(after.has_value());
+  EXPECT_GT(*after - *before, std::chrono::milliseconds{10});
+  EXPECT_FALSE(process_cpu_time(-1).has_value());
 }
 
 }  // namespace

@@ -56,6 +56,17 @@ struct BenchResult {
   std::optional<double> ddsperf_rtt_p50_us;  // one ping/pong round trip, median
   std::optional<double> ddsperf_rtt_mean_us;
   std::optional<double> ratio_p50;  // latency p50 / ddsperf round-trip p50
+  // CPU time (user + system) of every process taking part (product, contractors / ping, pongs)
+  // per negotiation of the one-at-a-time phase, and per ddsperf fan-out round trip: what a
+  // negotiation costs where the processes outnumber the cores.
+  std::optional<double> cpu_us_per_negotiation;
+  std::optional<double> ddsperf_cpu_us_per_round_trip;
+  std::optional<double> cpu_ratio;
+};
+
+struct DdsperfResult {
+  LatencyStats round_trip;                      // the fan-out round trip (see below)
+  std::optional<double> cpu_us_per_round_trip;  // ping's and pongs' CPU time / round trips
 };
 
 LatencyStats latency_stats(std::vector<double> samples_us);
@@ -67,10 +78,16 @@ Result<BenchResult> run_bench(const BenchOptions& options,
 // ddsperf ping/pong on loopback with `settings`' network configuration, in a domain of its own,
 // at the negotiation's fan-out: one pong process per contractor (the "same fan-out"); a
 // ping is sent when every pong has answered.
-Result<LatencyStats> run_ddsperf(const BenchOptions& options);
+Result<DdsperfResult> run_ddsperf(const BenchOptions& options);
 // ddsperf ping's output: per report second the slowest pong's median round trip (the fan-out
 // round trip of that second); p50 is the median of those, mean the mean over all round trips.
 // nullopt when the file holds no round-trip line.
+// LatencyStats::samples is the sum of the pongs' round trips.
 std::optional<LatencyStats> parse_ddsperf_output(const std::string& path);
+
+// CPU time (user + system) a running process has used, summed over its threads from
+// /proc/<pid>/task/*/schedstat (nanoseconds; threads that ended are not counted); nullopt when
+// the process is gone or /proc has no schedstat.
+std::optional<std::chrono::nanoseconds> process_cpu_time(int pid);
 
 }  // namespace sf::negotiation

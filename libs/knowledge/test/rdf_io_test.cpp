@@ -1,5 +1,7 @@
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "test_util.hpp"
 
 namespace sf::knowledge {
@@ -67,6 +69,40 @@ TEST(RdfIo, MalformedTurtleNamesFileLineAndColumnAndYieldsNothing) {
   auto missing = read_rdf_file(d, "/nonexistent/file.ttl");
   ASSERT_FALSE(missing.ok());
   EXPECT_EQ(missing.error().code, Errc::io);
+}
+
+TEST(RdfIo, IrisThatAreNotAbsoluteOrNotUtf8AreRefusedWithTheirPlace) {
+  Dictionary d;
+  // serd takes anything before the first ':' for a scheme: "h\xCB\xCBttp:" passed, and the
+  // N-Triples writer refused it later (found by knowledge_turtle_fuzz).
+  auto bad_scheme = read_rdf_string(d,
+                                    "@prefix ex: <http://ex/> .\n"
+                                    "@prefix rdfs: <h\xCB\xCBttp://www.w3.org/2000/01/rdf-schema#> .\n"
+                                    "ex:a rdfs:label \"a\" .\n",
+                                    Syntax::turtle, "s.ttl", "http://base/");
+  ASSERT_FALSE(bad_scheme.ok());
+  EXPECT_EQ(bad_scheme.error().message.rfind("s.ttl:3:6: not an absolute IRI", 0), 0U)
+      << bad_scheme.error().message;
+  EXPECT_NE(bad_scheme.error().message.find("h\\xCB\\xCBttp:"), std::string::npos);
+  // A well-formed scheme with ill-formed UTF-8 in the path: a truncated sequence (serd's own
+  // check) and an encoded surrogate (ours); either way refused with the place.
+  for (const char* iri : {"http://ex/a\xC3", "http://ex/a\xED\xA0\x80"}) {
+    auto bad_utf8 = read_rdf_string(d, fmt::format("<{}> <http://ex/p> <http://ex/o> .\n", iri),
+                                    Syntax::ntriples, "u.nt");
+    ASSERT_FALSE(bad_utf8.ok());
+    EXPECT_EQ(bad_utf8.error().message.rfind("u.nt:1:", 0), 0U) << bad_utf8.error().message;
+  }
+  // A relative IRI without a base to resolve it against.
+  EXPECT_FALSE(read_rdf_string(d, "<a> <http://ex/p> <http://ex/o> .\n", Syntax::turtle, "r.ttl").ok());
+  // Non-ASCII IRIs in UTF-8 and relative IRIs resolved against the base are fine.
+  auto good = read_rdf_string(d,
+                              "<B\xC3\xA4"
+                              "cker> <http://ex/p> <http://ex/\xE2\x82\xAC> .\n",
+                              Syntax::turtle, "g.ttl", "http://ex/");
+  ASSERT_TRUE(good.ok()) << good.error().message;
+  EXPECT_EQ(d.term(good->triples[0].s).text,
+            "http://ex/B\xC3\xA4"
+            "cker");
 }
 
 TEST(RdfIo, NTriplesRoundTripKeepsEveryTerm) {

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,81 @@ std::string_view view(const SerdNode* n) {
   return n == nullptr || n->buf == nullptr
              ? std::string_view{}
              : std::string_view(reinterpret_cast<const char*>(n->buf), n->n_bytes);
+}
+
+// RFC 3986 §3.1: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ), then ':'.
+bool has_iri_scheme(std::string_view iri) {
+  const auto alpha = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+  if (iri.empty() || !alpha(iri[0])) {
+    return false;
+  }
+  for (std::size_t i = 1; i < iri.size(); ++i) {
+    const char c = iri[i];
+    if (c == ':') {
+      return true;
+    }
+    if (!alpha(c) && !(c >= '0' && c <= '9') && c != '+' && c != '-' && c != '.') {
+      return false;
+    }
+  }
+  return false;
+}
+
+// Well-formed UTF-8 (RFC 3629 §4): no stray continuation bytes, overlong forms, surrogates or
+// code points above U+10FFFF.
+bool valid_utf8(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    std::size_t n = 0;
+    std::uint32_t cp = 0;
+    if (b < 0x80) {
+      ++i;
+      continue;
+    }
+    if (b >= 0xC2 && b <= 0xDF) {
+      n = 1;
+      cp = b & 0x1FU;
+    } else if (b >= 0xE0 && b <= 0xEF) {
+      n = 2;
+      cp = b & 0x0FU;
+    } else if (b >= 0xF0 && b <= 0xF4) {
+      n = 3;
+      cp = b & 0x07U;
+    } else {
+      return false;
+    }
+    if (i + n >= s.size()) {  // the sequence runs past the end
+      return false;
+    }
+    for (std::size_t k = 1; k <= n; ++k) {
+      const auto c = static_cast<unsigned char>(s[i + k]);
+      if ((c & 0xC0U) != 0x80U) {
+        return false;
+      }
+      cp = (cp << 6U) | (c & 0x3FU);
+    }
+    const std::uint32_t min = n == 1 ? 0x80U : n == 2 ? 0x800U : 0x10000U;
+    if (cp < min || cp > 0x10FFFFU || (cp >= 0xD800U && cp <= 0xDFFFU)) {
+      return false;
+    }
+    i += n + 1;
+  }
+  return true;
+}
+
+// For error messages: bytes outside printable ASCII as \xNN.
+std::string printable(std::string_view s) {
+  std::string out;
+  for (const char c : s) {
+    const auto b = static_cast<unsigned char>(c);
+    if (b < 0x20 || b >= 0x7F) {
+      out += fmt::format("\\x{:02X}", b);
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 // A serd node we own (serd_env_expand_node allocates).
@@ -50,7 +126,11 @@ struct ReadState {
 
   // serd reports no position to the statement sink: locate the prefixed name in the text.
   void fail_curie(const SerdNode* n) {
-    const std::string_view curie = view(n);
+    fail_near(view(n), fmt::format("undeclared prefix in '{}'", view(n)));
+  }
+
+  // `message` at the first place `needle` occurs in the text (line 0 when it does not).
+  void fail_near(std::string_view needle, const std::string& message) {
     std::string file_text;
     if (text.empty() && !path.empty()) {
       std::ifstream in(path, std::ios::binary);
@@ -59,7 +139,7 @@ struct ReadState {
       file_text = all.str();
       text = file_text;
     }
-    std::size_t at = text.find(curie);
+    const std::size_t at = text.find(needle);
     int line = 1;
     int col = 1;
     for (std::size_t i = 0; at != std::string_view::npos && i < at; ++i) {
@@ -70,7 +150,11 @@ struct ReadState {
         ++col;
       }
     }
-    fail_at(fmt::format("{}:{}: undeclared prefix in '{}'", line, col, curie));
+    if (at == std::string_view::npos) {
+      line = 0;
+      col = 0;
+    }
+    fail_at(fmt::format("{}:{}: {}", line, col, message));
   }
 
   // Expands a URI or CURIE node to an absolute IRI; empty on failure.
@@ -80,12 +164,26 @@ struct ReadState {
     return std::string(view(&full.node));
   }
 
+  // RDF 1.1 §3.2: IRIs in a graph are absolute (RFC 3987 §2.2: scheme ":" ...) and, as
+  // Turtle text is, UTF-8. serd takes anything before the first ':' for a scheme and passes
+  // bytes on unchecked, so an IRI it accepted may be neither; what a writer refuses later.
+  bool absolute_iri(const SerdNode* n, const std::string& iri) {
+    if (!has_iri_scheme(iri) || !valid_utf8(iri)) {
+      fail_near(view(n), fmt::format("not an absolute IRI in UTF-8: <{}>", printable(iri)));
+      return false;
+    }
+    return true;
+  }
+
   TermId term(const SerdNode* n, const SerdNode* datatype, const SerdNode* lang) {
     switch (n->type) {
       case SERD_URI:
       case SERD_CURIE: {
         const std::string iri = expand(n);
-        return iri.empty() ? kNoTerm : dict.iri(iri);
+        if (iri.empty()) {
+          return kNoTerm;
+        }
+        return absolute_iri(n, iri) ? dict.iri(iri) : kNoTerm;
       }
       case SERD_BLANK:
         return dict.blank(view(n));
@@ -93,7 +191,7 @@ struct ReadState {
         std::string dt;
         if (datatype != nullptr && datatype->type != SERD_NOTHING) {
           dt = expand(datatype);
-          if (dt.empty()) {
+          if (dt.empty() || !absolute_iri(datatype, dt)) {
             return kNoTerm;
           }
         }

@@ -1,13 +1,9 @@
 // Shared by the OPC UA benchmarks (bench_opcua_server, bench_opcua_security): servers as child
-// processes, the CPU time of a process, Read throughput with requests kept outstanding, and
-// where things are.
+// processes (sf::testing::ChildProcess), the CPU time of a process, Read throughput with requests kept
+// outstanding, and where things are.
 #pragma once
 
-#include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -30,8 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sf/opcua/client/client.hpp"
-
-extern char** environ;  // NOLINT(readability-redundant-declaration): posix_spawn needs it
+#include "sf/testing/child_process.hpp"
 
 namespace opcua_bench {
 
@@ -66,82 +61,51 @@ inline double cpu_seconds_of(pid_t pid) {
 class ServerProcess {
  public:
   explicit ServerProcess(std::string name) : name_(std::move(name)) {}
+  ~ServerProcess() { stop(); }  // our server does not exit on stdin's end, only on SIGTERM
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
-  ~ServerProcess() { stop(); }
 
   bool start(const std::vector<std::string>& args, const std::filesystem::path& cwd, bool verbose,
              std::chrono::seconds timeout) {
-    int in[2] = {-1, -1};
-    int out[2] = {-1, -1};
-    if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0) {
+    if (!process_.spawn(args, cwd, verbose)) {
       return false;
     }
-    std::vector<char*> argv;
-    for (const auto& a : args) {
-      argv.push_back(const_cast<char*>(a.c_str()));  // NOLINT: posix_spawn's signature
-    }
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, in[0], STDIN_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-    if (!verbose) {
-      posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-    }
-    posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-    const int rc = ::posix_spawnp(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    ::close(in[0]);
-    ::close(out[1]);
-    stdin_ = in[1];
-    stdout_ = out[0];
-    if (rc != 0) {
-      pid_ = -1;
-      return false;
-    }
-    return wait_ready(timeout);
+    paused_ = false;
+    return process_.wait_for_line(
+        [this](const std::string& line) {
+          const auto ready = line.find("READY ");
+          const auto listening = line.find("listening on ");
+          const auto colon = line.rfind(':');
+          if (ready != std::string::npos) {
+            port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
+          } else if (listening != std::string::npos && colon != std::string::npos) {
+            port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
+          }
+          return port_ != 0;
+        },
+        timeout);
   }
 
   // Closes stdin (node_server.mjs exits then) and sends SIGTERM; SIGKILL after 10 s.
-  void stop() {
-    if (pid_ > 0) {
-      resume();
-      if (stdin_ >= 0) {
-        ::close(stdin_);
-        stdin_ = -1;
-      }
-      ::kill(pid_, SIGTERM);
-      if (!wait_exit(std::chrono::seconds(10))) {
-        ::kill(pid_, SIGKILL);
-        wait_exit(std::chrono::seconds(10));
-      }
-    }
-    for (int* fd : {&stdin_, &stdout_}) {
-      if (*fd >= 0) {
-        ::close(*fd);
-        *fd = -1;
-      }
-    }
-  }
+  void stop() { process_.stop(true); }
 
   // SIGSTOP / SIGCONT: the server takes no CPU while the other one is measured.
   void pause() {
-    if (pid_ > 0 && !paused_) {
-      ::kill(pid_, SIGSTOP);
+    if (!paused_) {
+      process_.signal(SIGSTOP);
       paused_ = true;
     }
   }
   void resume() {
-    if (pid_ > 0 && paused_) {
-      ::kill(pid_, SIGCONT);
+    if (paused_) {
+      process_.signal(SIGCONT);
       paused_ = false;
     }
   }
 
   // VmRSS in bytes (0 when unknown).
   [[nodiscard]] std::uint64_t rss() const {
-    std::ifstream status(fmt::format("/proc/{}/status", pid_));
+    std::ifstream status(fmt::format("/proc/{}/status", process_.pid()));
     std::string line;
     while (std::getline(status, line)) {
       if (line.rfind("VmRSS:", 0) == 0) {
@@ -151,61 +115,15 @@ class ServerProcess {
     return 0;
   }
 
-  [[nodiscard]] double cpu_seconds() const { return cpu_seconds_of(pid_); }
+  [[nodiscard]] double cpu_seconds() const { return cpu_seconds_of(process_.pid()); }
 
-  [[nodiscard]] bool running() const { return pid_ > 0 && ::kill(pid_, 0) == 0; }
+  [[nodiscard]] bool running() const { return process_.running(); }
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] std::string url() const { return fmt::format("opc.tcp://127.0.0.1:{}", port_); }
 
  private:
-  bool wait_ready(std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    std::string buffer;
-    while (std::chrono::steady_clock::now() < deadline) {
-      pollfd p{stdout_, POLLIN, 0};
-      if (::poll(&p, 1, 200) <= 0) {
-        continue;
-      }
-      char chunk[256];
-      const ssize_t n = ::read(stdout_, chunk, sizeof chunk);
-      if (n <= 0) {
-        return false;  // the process ended before it was ready
-      }
-      buffer.append(chunk, static_cast<std::size_t>(n));
-      const auto eol = buffer.find('\n');
-      if (eol == std::string::npos) {
-        continue;
-      }
-      const std::string line = buffer.substr(0, eol);
-      const auto ready = line.find("READY ");
-      const auto listening = line.find("listening on ");
-      const auto colon = line.rfind(':');
-      if (ready != std::string::npos) {
-        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
-      } else if (listening != std::string::npos && colon != std::string::npos) {
-        port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
-      }
-      return port_ != 0;
-    }
-    return false;
-  }
-
-  bool wait_exit(std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (::waitpid(pid_, nullptr, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() >= deadline) {
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    pid_ = -1;
-    return true;
-  }
-
   std::string name_;
-  pid_t pid_ = -1;
-  int stdin_ = -1;
-  int stdout_ = -1;
+  sf::testing::ChildProcess process_;
   std::uint16_t port_ = 0;
   bool paused_ = false;
 };

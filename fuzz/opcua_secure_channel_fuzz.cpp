@@ -51,32 +51,18 @@ const SecurityCredentials& client_credentials() {
 
 // Basic256Sha256 that remembers the keys the client derived for sending (the server's receiving
 // keys), so the harness can secure chunks of its own.
-class KeyRecorder final : public SecurityPolicy {
+class KeyRecorder final : public ForwardingSecurityPolicy {
  public:
   explicit KeyRecorder(std::shared_ptr<SymmetricKeys> keys)
-      : inner_(security::make_security_policy(security::kBasic256Sha256Uri)), keys_(std::move(keys)) {}
-  [[nodiscard]] std::string_view uri() const override { return inner_->uri(); }
-  [[nodiscard]] bool uses_certificates() const override { return true; }
-  [[nodiscard]] std::size_t nonce_length() const override { return inner_->nonce_length(); }
-  [[nodiscard]] std::size_t signing_key_length() const override { return inner_->signing_key_length(); }
-  [[nodiscard]] std::size_t encrypting_key_length() const override { return inner_->encrypting_key_length(); }
-  [[nodiscard]] std::size_t encrypting_block_size() const override { return inner_->encrypting_block_size(); }
-  sf::Result<ByteString> create_nonce() const override { return inner_->create_nonce(); }
-  sf::Result<sf::Bytes> derive(sf::ByteSpan s, sf::ByteSpan seed, std::size_t n) const override {
-    return inner_->derive(s, seed, n);
-  }
-  sf::Result<ByteString> thumbprint(const ByteString& c) const override { return inner_->thumbprint(c); }
-  sf::Result<ChannelCrypto> asymmetric(const SecurityCredentials& l, const ByteString& p) const override {
-    return inner_->asymmetric(l, p);
-  }
+      : ForwardingSecurityPolicy(security::make_security_policy(security::kBasic256Sha256Uri)),
+        keys_(std::move(keys)) {}
   sf::Result<ChannelCrypto> symmetric(MessageSecurityMode mode, const SymmetricKeys& sending,
                                       const SymmetricKeys& receiving) const override {
     *keys_ = sending;
-    return inner_->symmetric(mode, sending, receiving);
+    return ForwardingSecurityPolicy::symmetric(mode, sending, receiving);
   }
 
  private:
-  std::shared_ptr<const SecurityPolicy> inner_;
   std::shared_ptr<SymmetricKeys> keys_;
 };
 

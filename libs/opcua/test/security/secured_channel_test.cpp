@@ -216,28 +216,14 @@ class BadPaddingCrypto final : public MessageCrypto {
   std::uint8_t value_;
 };
 
-class BadPaddingPolicy final : public SecurityPolicy {
+class BadPaddingPolicy final : public ForwardingSecurityPolicy {
  public:
   BadPaddingPolicy(std::shared_ptr<const SecurityPolicy> inner, std::shared_ptr<int> armed,
                    std::uint8_t value)
-      : inner_(std::move(inner)), armed_(std::move(armed)), value_(value) {}
-  [[nodiscard]] std::string_view uri() const override { return inner_->uri(); }
-  [[nodiscard]] bool uses_certificates() const override { return true; }
-  [[nodiscard]] std::size_t nonce_length() const override { return inner_->nonce_length(); }
-  [[nodiscard]] std::size_t signing_key_length() const override { return inner_->signing_key_length(); }
-  [[nodiscard]] std::size_t encrypting_key_length() const override { return inner_->encrypting_key_length(); }
-  [[nodiscard]] std::size_t encrypting_block_size() const override { return inner_->encrypting_block_size(); }
-  Result<ByteString> create_nonce() const override { return inner_->create_nonce(); }
-  Result<Bytes> derive(ByteSpan secret, ByteSpan seed, std::size_t n) const override {
-    return inner_->derive(secret, seed, n);
-  }
-  Result<ByteString> thumbprint(const ByteString& c) const override { return inner_->thumbprint(c); }
-  Result<ChannelCrypto> asymmetric(const SecurityCredentials& l, const ByteString& p) const override {
-    return inner_->asymmetric(l, p);
-  }
+      : ForwardingSecurityPolicy(std::move(inner)), armed_(std::move(armed)), value_(value) {}
   Result<ChannelCrypto> symmetric(MessageSecurityMode mode, const SymmetricKeys& s,
                                   const SymmetricKeys& r) const override {
-    auto crypto = inner_->symmetric(mode, s, r);
+    auto crypto = ForwardingSecurityPolicy::symmetric(mode, s, r);
     if (crypto.ok()) {
       crypto->sending = std::make_shared<BadPaddingCrypto>(crypto->sending, armed_, value_);
     }
@@ -245,7 +231,6 @@ class BadPaddingPolicy final : public SecurityPolicy {
   }
 
  private:
-  std::shared_ptr<const SecurityPolicy> inner_;
   std::shared_ptr<int> armed_;
   std::uint8_t value_;
 };

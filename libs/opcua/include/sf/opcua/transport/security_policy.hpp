@@ -132,6 +132,37 @@ Result<ChannelCrypto> make_symmetric_crypto(const SecurityPolicy& policy, Messag
 using HmacFunction = std::function<Bytes(ByteSpan key, ByteSpan data)>;
 Bytes p_hash(const HmacFunction& hmac, ByteSpan secret, ByteSpan seed, std::size_t length);
 
+// A policy that forwards everything to another one: the base of decorators that change one
+// step (e.g. tests that record the derived keys or tamper with what is sent).
+class ForwardingSecurityPolicy : public SecurityPolicy {
+ public:
+  explicit ForwardingSecurityPolicy(std::shared_ptr<const SecurityPolicy> inner) : inner_(std::move(inner)) {}
+  [[nodiscard]] std::string_view uri() const override { return inner_->uri(); }
+  [[nodiscard]] bool uses_certificates() const override { return inner_->uses_certificates(); }
+  [[nodiscard]] std::size_t nonce_length() const override { return inner_->nonce_length(); }
+  [[nodiscard]] std::size_t signing_key_length() const override { return inner_->signing_key_length(); }
+  [[nodiscard]] std::size_t encrypting_key_length() const override { return inner_->encrypting_key_length(); }
+  [[nodiscard]] std::size_t encrypting_block_size() const override { return inner_->encrypting_block_size(); }
+  Result<ByteString> create_nonce() const override { return inner_->create_nonce(); }
+  Result<Bytes> derive(ByteSpan secret, ByteSpan seed, std::size_t length) const override {
+    return inner_->derive(secret, seed, length);
+  }
+  Result<ByteString> thumbprint(const ByteString& certificate) const override {
+    return inner_->thumbprint(certificate);
+  }
+  Result<ChannelCrypto> asymmetric(const SecurityCredentials& local,
+                                   const ByteString& peer_certificate) const override {
+    return inner_->asymmetric(local, peer_certificate);
+  }
+  Result<ChannelCrypto> symmetric(MessageSecurityMode mode, const SymmetricKeys& sending,
+                                  const SymmetricKeys& receiving) const override {
+    return inner_->symmetric(mode, sending, receiving);
+  }
+
+ private:
+  std::shared_ptr<const SecurityPolicy> inner_;
+};
+
 // http://opcfoundation.org/UA/SecurityPolicy#None
 class SecurityPolicyNone final : public SecurityPolicy {
  public:

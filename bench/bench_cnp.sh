@@ -18,8 +18,8 @@ command -v ddsperf >/dev/null || echo "bench_cnp.sh: ddsperf not found (cycloned
 
 printf "contractor processes, %s negotiations per phase, executor spin %s us, %s delivery\n" "$negotiations" "$spin" \
   "$delivery"
-printf "%11s %9s %9s %9s %15s %13s %12s %8s %12s %10s\n" contractors "p50 us" "p99 us" "mean us" \
-  "one-at-a-time/s" "8-in-flight/s" "ddsperf us" "ratio" "CPU us/neg" "CPU ratio"
+printf "%11s %9s %9s %9s %15s %13s %12s %8s %12s %10s %12s %10s\n" contractors "p50 us" "p99 us" "mean us" \
+  "one-at-a-time/s" "8-in-flight/s" "ddsperf p50" "ratio" "ddsperf mean" "mean ratio" "CPU us/neg" "CPU ratio"
 for n in 1 4 16 64; do
   json=$(SF_LOG=warn "$sf" cnp bench --contractors "$n" --negotiations "$negotiations" --processes \
            --spin-us "$spin" --delivery "$delivery" --json 2>/dev/null) || { echo "$n contractors: failed"; continue; }
@@ -27,13 +27,13 @@ for n in 1 4 16 64; do
 import json, sys
 d = json.loads(sys.argv[1])
 l = d["latency_us"]
-rtt = d["ddsperf_rtt_p50_us"]
-ratio = d["ratio_p50"]
 nan = float("nan")
-cpu, cpu_ratio = d.get("cpu_us_per_negotiation"), d.get("cpu_ratio")
+def v(key):
+    x = d.get(key)
+    return nan if x is None else x
 print(f"{d['contractors']:11d} {l['p50']:9.1f} {l['p99']:9.1f} {l['mean']:9.1f} {d['sequential_per_s']:15.0f} "
-      f"{d['pipelined_per_s']:13.0f} {rtt if rtt is not None else nan:12.1f} "
-      f"{ratio if ratio is not None else nan:7.1f}x {cpu if cpu is not None else nan:12.1f} "
-      f"{cpu_ratio if cpu_ratio is not None else nan:9.1f}x")
+      f"{d['pipelined_per_s']:13.0f} {v('ddsperf_rtt_p50_us'):12.1f} {v('ratio_p50'):7.2f}x "
+      f"{v('ddsperf_rtt_mean_us'):12.1f} {v('ratio_mean'):9.2f}x {v('cpu_us_per_negotiation'):12.1f} "
+      f"{v('cpu_ratio'):9.2f}x")
 PY
 done

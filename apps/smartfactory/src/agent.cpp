@@ -565,6 +565,7 @@ json bench_json(const cnp::BenchResult& r) {
   j["ddsperf_rtt_p50_us"] = value(r.ddsperf_rtt_p50_us);
   j["ddsperf_rtt_mean_us"] = value(r.ddsperf_rtt_mean_us);
   j["ratio_p50"] = value(r.ratio_p50);
+  j["ratio_mean"] = value(r.ratio_mean);
   j["cpu_us_per_negotiation"] = value(r.cpu_us_per_negotiation);
   j["ddsperf_cpu_us_per_round_trip"] = value(r.ddsperf_cpu_us_per_round_trip);
   j["cpu_ratio"] = value(r.cpu_ratio);
@@ -599,8 +600,12 @@ int run_bench_cmd(const BenchCliOptions& o) {
   say(fmt::format("  {:.0f} negotiations/s one at a time, {:.0f}/s with {} in flight", r->sequential_per_s,
                   r->pipelined_per_s, r->window));
   if (r->ddsperf_rtt_p50_us) {
-    say(fmt::format("  ddsperf round trip to {} pongs p50 {:.1f} us: negotiation = {:.1f} round trips",
+    say(fmt::format("  ddsperf round trip to {} pongs p50 {:.1f} us: negotiation p50 = {:.2f} round trips",
                     r->contractors, *r->ddsperf_rtt_p50_us, r->ratio_p50.value_or(0)));
+  }
+  if (r->ddsperf_rtt_mean_us) {
+    say(fmt::format("  ddsperf ping cycle (mean round trip) {:.1f} us: negotiation mean = {:.2f} round trips",
+                    *r->ddsperf_rtt_mean_us, r->ratio_mean.value_or(0)));
   }
   if (r->cpu_us_per_negotiation) {
     say(fmt::format("  CPU time of all processes: {:.1f} us per negotiation", *r->cpu_us_per_negotiation));

@@ -383,8 +383,7 @@ LatencyStats latency_stats(std::vector<double> samples) {
 
 // ddsperf at the negotiation's fan-out: one pong process per contractor. "ping" sends the next
 // ping once every pong has answered, so one cycle is a round trip to all of them, as an
-// ANNOUNCE/BID exchange is; it prints each pong's round trip per second, and the slowest pong of
-// a second is that second's fan-out round trip.
+// ANNOUNCE/BID exchange is (FanOutRoundTrip: what ping prints and how it is read).
 Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   auto xml = dds::cyclone_config_xml(options.dds.network);
   if (!xml) {
@@ -431,9 +430,8 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
     return Error{Errc::not_found, fmt::format("{} printed no round-trip statistics", options.ddsperf_binary)};
   }
   DdsperfResult result{*stats, std::nullopt};
-  // Every pong answers each ping once: the pongs' round trips / pongs are the pings. The CPU
-  // time includes discovery and ping's initial wait, a small share of a run of seconds.
-  const double round_trips = static_cast<double>(stats->samples) / static_cast<double>(pongs);
+  // The CPU time includes discovery and ping's initial wait, a small share of a run of seconds.
+  const auto round_trips = static_cast<double>(stats->pings);
   if (pongs_cpu0 && pongs_cpu1 && ping->cpu_at_exit() && round_trips > 0) {
     result.cpu_us_per_round_trip =
         microseconds(*pongs_cpu1 - *pongs_cpu0 + *ping->cpu_at_exit()) / round_trips;
@@ -467,37 +465,55 @@ std::optional<std::chrono::nanoseconds> process_cpu_time(int pid) {
   return std::chrono::nanoseconds{total};
 }
 
-std::optional<LatencyStats> parse_ddsperf_output(const std::string& path) {
+std::optional<FanOutRoundTrip> parse_ddsperf_output(const std::string& path) {
   // "[pid] 2.000  host:pid size 12 mean 6.9us min 3.7us 50% 4.0us 90% 4.2us 99% 4.5us max 2743us cnt 71926"
-  const std::regex line{R"(\] ([0-9.]+) .* mean ([0-9.]+)us min [0-9.]+us 50% ([0-9.]+)us .* cnt ([0-9]+))"};
+  const std::regex line{R"(\] ([0-9.]+) .* mean [0-9.]+us min [0-9.]+us 50% ([0-9.]+)us .* cnt ([0-9]+))"};
+  struct Report {
+    double slowest_median = 0;  // half round trip, as printed
+    double fewest = 0;          // the fewest answers of one pong: the pings all answered
+    std::size_t pongs = 0;
+  };
+  std::map<double, Report> reports;  // by report time
   std::ifstream in{path};
   std::string text;
-  std::map<std::string, double> slowest;  // per report time: the largest median of its pongs
-  double weighted_mean = 0;
-  double count = 0;
   while (std::getline(in, text)) {
     std::smatch m;
-    if (std::regex_search(text, m, line)) {
-      const double n = std::stod(m[4]);
-      double& worst = slowest[m[1]];
-      worst = std::max(worst, std::stod(m[3]));
-      weighted_mean += std::stod(m[2]) * n;
-      count += n;
+    if (!std::regex_search(text, m, line)) {
+      continue;
     }
+    const double answers = std::stod(m[3]);
+    auto [it, first] = reports.try_emplace(std::stod(m[1]));
+    Report& r = it->second;
+    r.slowest_median = std::max(r.slowest_median, std::stod(m[2]));
+    r.fewest = first ? answers : std::min(r.fewest, answers);
+    ++r.pongs;
   }
-  if (slowest.empty()) {
+  if (reports.empty()) {
     return std::nullopt;
   }
+  std::size_t pongs = 0;
+  for (const auto& [time, r] : reports) {
+    pongs = std::max(pongs, r.pongs);
+  }
+  // A report without a line for some pong: that pong answered nothing, so no ping completed.
+  const auto pings = [&](const Report& r) { return r.pongs == pongs ? r.fewest : 0.0; };
   std::vector<double> medians;
-  for (const auto& [time, median] : slowest) {
-    medians.push_back(median);
+  FanOutRoundTrip rt;
+  double cycles = 0;
+  for (auto it = reports.begin(); it != reports.end(); ++it) {
+    medians.push_back(2 * it->second.slowest_median);
+    rt.pings += static_cast<std::size_t>(pings(it->second));
+    if (it != reports.begin()) {
+      cycles += pings(it->second);
+    }
   }
   std::sort(medians.begin(), medians.end());
-  LatencyStats s;
-  s.samples = static_cast<std::size_t>(count);
-  s.p50_us = percentile(medians, 0.5);  // the median of the per-second fan-out round trips
-  s.mean_us = weighted_mean / count;
-  return s;
+  rt.p50_us = percentile(medians, 0.5);
+  const double span_s = std::prev(reports.end())->first - reports.begin()->first;
+  if (cycles > 0) {
+    rt.mean_us = span_s * 1e6 / cycles;
+  }
+  return rt;
 }
 
 Result<BenchResult> run_bench(const BenchOptions& options,
@@ -562,6 +578,9 @@ Result<BenchResult> run_bench(const BenchOptions& options,
       r.ddsperf_rtt_mean_us = rtt.mean_us;
       if (rtt.p50_us > 0) {
         r.ratio_p50 = r.latency.p50_us / rtt.p50_us;
+      }
+      if (rtt.mean_us && *rtt.mean_us > 0) {
+        r.ratio_mean = r.latency.mean_us / *rtt.mean_us;
       }
       r.ddsperf_cpu_us_per_round_trip = perf->cpu_us_per_round_trip;
       if (r.cpu_us_per_negotiation && perf->cpu_us_per_round_trip && *perf->cpu_us_per_round_trip > 0) {

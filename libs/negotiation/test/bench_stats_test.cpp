@@ -1,5 +1,5 @@
-// The benchmark's reading of ddsperf's output at a fan-out: the slowest pong of each second is
-// that second's round trip to all pongs.
+// The benchmark's reading of ddsperf's output at a fan-out: round trips to all pongs from the
+// slowest pong of each second and from the pings every pong answered.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -22,21 +22,55 @@ std::string write_temp(const std::string& text) {
   return name;
 }
 
-TEST(DdsperfOutput, TheSlowestPongOfEachSecondIsTheFanOutRoundTrip) {
+// ddsperf prints half round trips (FanOutRoundTrip): a round trip is twice the printed figure.
+TEST(DdsperfOutput, TheSlowestPongOfEachSecondGivesTwiceItsMedianAsTheFanOutRoundTrip) {
   const std::string path = write_temp(
       "[101] participant vm:102: new\n"
       "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
       "[101] 1.000  vm:103 size 12 mean 11.0us min 4.0us 50% 12.0us 90% 13.0us 99% 14.0us max 50us cnt 100\n"
+      "[101] 1.000  rss:8.9MB vcsw:33852 ivcsw:12673 ddsperf:1%+0% recvMC:0%+11% recvUC:7%+37%\n"
       "[101] 2.000  vm:102 size 12 mean 9.0us min 3.0us 50% 7.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
       "[101] 2.000  vm:103 size 12 mean 9.0us min 3.0us 50% 20.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
-      "[101] 3.000  vm:102 size 12 mean 10.0us min 3.0us 50% 30.0us 90% 9.0us 99% 10.0us max 40us cnt 200\n");
-  const auto stats = parse_ddsperf_output(path);
+      "[101] 3.000  vm:102 size 12 mean 10.0us min 3.0us 50% 30.0us 90% 9.0us 99% 10.0us max 40us cnt 200\n"
+      "[101] 3.000  vm:103 size 12 mean 10.0us min 3.0us 50% 5.0us 90% 9.0us 99% 10.0us max 40us cnt 200\n");
+  const auto rt = parse_ddsperf_output(path);
   std::remove(path.c_str());
-  ASSERT_TRUE(stats.has_value());
-  // Per second: max(8, 12) = 12, max(7, 20) = 20, 30; their median is 20.
-  EXPECT_DOUBLE_EQ(stats->p50_us, 20.0);
-  EXPECT_EQ(stats->samples, 600U);
-  EXPECT_DOUBLE_EQ(stats->mean_us, (9.0 * 100 + 11.0 * 100 + 9.0 * 100 + 9.0 * 100 + 10.0 * 200) / 600);
+  ASSERT_TRUE(rt.has_value());
+  // Per second the slowest median: 12, 20, 30; their median 20 is half a round trip.
+  EXPECT_DOUBLE_EQ(rt->p50_us, 40.0);
+  EXPECT_EQ(rt->pings, 400U);
+}
+
+// ping waits for every pong before the next ping: the pings every pong answered per second give
+// the mean fan-out round trip. The first report's interval starts before the first ping.
+TEST(DdsperfOutput, TheMeanRoundTripIsOnePingCycle) {
+  const std::string path = write_temp(
+      "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n"
+      "[101] 1.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n"
+      "[101] 2.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20001\n"
+      "[101] 2.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n"
+      "[101] 3.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 30000\n"
+      // vm:103 answered nothing in the fourth second, so no ping completed.
+      "[101] 4.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 5\n"
+      "[101] 5.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n"
+      "[101] 5.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n");
+  const auto rt = parse_ddsperf_output(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(rt.has_value());
+  // Seconds 2 to 5: 20000 + 0 + 0 + 20000 pings in 4 s.
+  ASSERT_TRUE(rt->mean_us.has_value());
+  EXPECT_DOUBLE_EQ(*rt->mean_us, 4e6 / 40000);
+  EXPECT_EQ(rt->pings, 40007U);
+}
+
+TEST(DdsperfOutput, OneReportHasNoMeanCycle) {
+  const std::string path = write_temp(
+      "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n");
+  const auto rt = parse_ddsperf_output(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(rt.has_value());
+  EXPECT_FALSE(rt->mean_us.has_value());
+  EXPECT_DOUBLE_EQ(rt->p50_us, 16.0);
 }
 
 TEST(DdsperfOutput, NoRoundTripLinesIsNothing) {

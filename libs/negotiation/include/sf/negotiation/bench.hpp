@@ -53,9 +53,10 @@ struct BenchResult {
   double pipelined_per_s = 0;   // `window` at a time
   std::uint64_t renegotiations = 0;
   std::uint64_t failed = 0;
-  std::optional<double> ddsperf_rtt_p50_us;  // one ping/pong round trip, median
-  std::optional<double> ddsperf_rtt_mean_us;
-  std::optional<double> ratio_p50;  // latency p50 / ddsperf round-trip p50
+  std::optional<double> ddsperf_rtt_p50_us;   // ddsperf's fan-out round trip, median (FanOutRoundTrip)
+  std::optional<double> ddsperf_rtt_mean_us;  // ddsperf's fan-out round trip, mean: one ping cycle
+  std::optional<double> ratio_p50;            // latency p50 / ddsperf round-trip p50
+  std::optional<double> ratio_mean;           // latency mean / ddsperf ping cycle
   // CPU time (user + system) of every process taking part (product, contractors / ping, pongs)
   // per negotiation of the one-at-a-time phase, and per ddsperf fan-out round trip: what a
   // negotiation costs where the processes outnumber the cores.
@@ -64,9 +65,26 @@ struct BenchResult {
   std::optional<double> cpu_ratio;
 };
 
+// ddsperf's round trip from one ping to all its pongs, read from ping's output.
+//
+// ddsperf ping prints, per second and per pong, statistics of HALF the round trip: its pong
+// handler records (receive time - the ping's source timestamp) / 2 (ddsperf.c, process_pong),
+// a one-way latency estimate. A round trip is twice what it prints; with one pong, twice the
+// printed mean matches 1 s / pings per second.
+struct FanOutRoundTrip {
+  // Twice the median over the report seconds of the slowest pong's median: a lower bound of
+  // the median fan-out round trip (the slowest answer to each ping may come from any pong).
+  double p50_us = 0;
+  // The mean ping cycle: ping sends the next ping once every pong has answered, so a cycle is
+  // one fan-out round trip; report time / pings every pong answered, over the reports after the
+  // first (whose interval starts before the pings do). nullopt with fewer than two reports.
+  std::optional<double> mean_us;
+  std::size_t pings = 0;  // pings every pong answered, over all reports
+};
+
 struct DdsperfResult {
-  LatencyStats round_trip;                      // the fan-out round trip (see below)
-  std::optional<double> cpu_us_per_round_trip;  // ping's and pongs' CPU time / round trips
+  FanOutRoundTrip round_trip;
+  std::optional<double> cpu_us_per_round_trip;  // ping's and pongs' CPU time / pings
 };
 
 LatencyStats latency_stats(std::vector<double> samples_us);
@@ -79,11 +97,8 @@ Result<BenchResult> run_bench(const BenchOptions& options,
 // at the negotiation's fan-out: one pong process per contractor (the "same fan-out"); a
 // ping is sent when every pong has answered.
 Result<DdsperfResult> run_ddsperf(const BenchOptions& options);
-// ddsperf ping's output: per report second the slowest pong's median round trip (the fan-out
-// round trip of that second); p50 is the median of those, mean the mean over all round trips.
-// nullopt when the file holds no round-trip line.
-// LatencyStats::samples is the sum of the pongs' round trips.
-std::optional<LatencyStats> parse_ddsperf_output(const std::string& path);
+// Reads ddsperf ping's output (see FanOutRoundTrip); nullopt when it holds no round-trip line.
+std::optional<FanOutRoundTrip> parse_ddsperf_output(const std::string& path);
 
 // CPU time (user + system) a running process has used, summed over its threads from
 // /proc/<pid>/task/*/schedstat (nanoseconds; threads that ended are not counted); nullopt when

@@ -35,8 +35,8 @@ int main(int argc, char** argv) {
   cnp::BenchOptions base;
   base.negotiations = negotiations == 0 ? 500 : negotiations;
   std::printf("%11s %9s %9s %9s %15s %13s %11s %8s %12s %10s %11s %9s\n", "contractors", "p50 us", "p99 us",
-              "mean us", "one-at-a-time/s", "8-in-flight/s", "ddsperf p50", "ratio", "ddsperf mean", "mean ratio",
-              "CPU us/neg", "CPU ratio");
+              "mean us", "one-at-a-time/s", "8-in-flight/s", "ddsperf p50", "ratio", "ddsperf mean",
+              "mean ratio", "CPU us/neg", "CPU ratio");
   for (std::size_t n : {1U, 4U, 16U, 64U}) {
     auto options = base;
     options.contractors = n;

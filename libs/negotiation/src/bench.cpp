@@ -498,17 +498,17 @@ std::optional<FanOutRoundTrip> parse_ddsperf_output(const std::string& path) {
   // A report without a line for some pong: that pong answered nothing, so no ping completed.
   const auto pings = [&](const Report& r) { return r.pongs == pongs ? r.fewest : 0.0; };
   std::vector<double> medians;
-  FanOutRoundTrip rt;
-  double cycles = 0;
-  for (auto it = reports.begin(); it != reports.end(); ++it) {
-    medians.push_back(2 * it->second.slowest_median);
-    rt.pings += static_cast<std::size_t>(pings(it->second));
-    if (it != reports.begin()) {
-      cycles += pings(it->second);
-    }
+  double all_pings = 0;
+  for (const auto& [time, r] : reports) {
+    medians.push_back(2 * r.slowest_median);
+    all_pings += pings(r);
   }
   std::sort(medians.begin(), medians.end());
+  FanOutRoundTrip rt;
   rt.p50_us = percentile(medians, 0.5);
+  rt.pings = static_cast<std::size_t>(all_pings);
+  // The first report's interval starts before the pings do: the cycle counts the others.
+  const double cycles = all_pings - pings(reports.begin()->second);
   const double span_s = std::prev(reports.end())->first - reports.begin()->first;
   if (cycles > 0) {
     rt.mean_us = span_s * 1e6 / cycles;

@@ -9,10 +9,19 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "sf/negotiation/bench.hpp"
 
 namespace sf::negotiation {
 namespace {
+
+// One per-pong line of ddsperf ping's output.
+std::string pong_line(std::string_view time, std::string_view pong, double median, int answers) {
+  return fmt::format(
+      "[101] {}  vm:{} size 12 mean 9.0us min 3.0us 50% {}us 90% 9.0us 99% 10.0us max 40us cnt {}\n", time,
+      pong, median, answers);
+}
 
 std::string write_temp(const std::string& text) {
   char name[] = "/tmp/sf-ddsperf-XXXXXX";
@@ -24,15 +33,12 @@ std::string write_temp(const std::string& text) {
 
 // ddsperf prints half round trips (FanOutRoundTrip): a round trip is twice the printed figure.
 TEST(DdsperfOutput, TheSlowestPongOfEachSecondGivesTwiceItsMedianAsTheFanOutRoundTrip) {
-  const std::string path = write_temp(
-      "[101] participant vm:102: new\n"
-      "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
-      "[101] 1.000  vm:103 size 12 mean 11.0us min 4.0us 50% 12.0us 90% 13.0us 99% 14.0us max 50us cnt 100\n"
-      "[101] 1.000  rss:8.9MB vcsw:33852 ivcsw:12673 ddsperf:1%+0% recvMC:0%+11% recvUC:7%+37%\n"
-      "[101] 2.000  vm:102 size 12 mean 9.0us min 3.0us 50% 7.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
-      "[101] 2.000  vm:103 size 12 mean 9.0us min 3.0us 50% 20.0us 90% 9.0us 99% 10.0us max 40us cnt 100\n"
-      "[101] 3.000  vm:102 size 12 mean 10.0us min 3.0us 50% 30.0us 90% 9.0us 99% 10.0us max 40us cnt 200\n"
-      "[101] 3.000  vm:103 size 12 mean 10.0us min 3.0us 50% 5.0us 90% 9.0us 99% 10.0us max 40us cnt 200\n");
+  const std::string path =
+      write_temp("[101] participant vm:102: new\n" + pong_line("1.000", "102", 8.0, 100) +
+                 pong_line("1.000", "103", 12.0, 100) +
+                 "[101] 1.000  rss:8.9MB vcsw:33852 ivcsw:12673 ddsperf:1%+0% recvMC:0%+11% recvUC:7%+37%\n" +
+                 pong_line("2.000", "102", 7.0, 100) + pong_line("2.000", "103", 20.0, 100) +
+                 pong_line("3.000", "102", 30.0, 200) + pong_line("3.000", "103", 5.0, 200));
   const auto rt = parse_ddsperf_output(path);
   std::remove(path.c_str());
   ASSERT_TRUE(rt.has_value());
@@ -44,16 +50,13 @@ TEST(DdsperfOutput, TheSlowestPongOfEachSecondGivesTwiceItsMedianAsTheFanOutRoun
 // ping waits for every pong before the next ping: the pings every pong answered per second give
 // the mean fan-out round trip. The first report's interval starts before the first ping.
 TEST(DdsperfOutput, TheMeanRoundTripIsOnePingCycle) {
-  const std::string path = write_temp(
-      "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n"
-      "[101] 1.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n"
-      "[101] 2.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20001\n"
-      "[101] 2.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n"
-      "[101] 3.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 30000\n"
-      // vm:103 answered nothing in the fourth second, so no ping completed.
-      "[101] 4.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 5\n"
-      "[101] 5.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n"
-      "[101] 5.000  vm:103 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 20000\n");
+  const std::string path =
+      write_temp(pong_line("1.000", "102", 8.0, 7) + pong_line("1.000", "103", 8.0, 7) +
+                 pong_line("2.000", "102", 8.0, 20001) + pong_line("2.000", "103", 8.0, 20000) +
+                 pong_line("3.000", "102", 8.0, 30000) +
+                 // vm:103 answered nothing in the fourth second, so no ping completed.
+                 pong_line("4.000", "102", 8.0, 5) + pong_line("5.000", "102", 8.0, 20000) +
+                 pong_line("5.000", "103", 8.0, 20000));
   const auto rt = parse_ddsperf_output(path);
   std::remove(path.c_str());
   ASSERT_TRUE(rt.has_value());
@@ -64,8 +67,7 @@ TEST(DdsperfOutput, TheMeanRoundTripIsOnePingCycle) {
 }
 
 TEST(DdsperfOutput, OneReportHasNoMeanCycle) {
-  const std::string path = write_temp(
-      "[101] 1.000  vm:102 size 12 mean 9.0us min 3.0us 50% 8.0us 90% 9.0us 99% 10.0us max 40us cnt 7\n");
+  const std::string path = write_temp(pong_line("1.000", "102", 8.0, 7));
   const auto rt = parse_ddsperf_output(path);
   std::remove(path.c_str());
   ASSERT_TRUE(rt.has_value());

@@ -70,10 +70,11 @@ Result<std::string> cyclone_config_xml(const NetworkConfig& c) {
       "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
       "<MaxAutoParticipantIndex>{}</MaxAutoParticipantIndex>"
       "{}<LeaseDuration>{}ms</LeaseDuration><SPDPInterval>{}ms</SPDPInterval></Discovery>"
+      "<Internal><WriteBatch>{}</WriteBatch></Internal>"
       "</Domain></CycloneDDS>",
       interface_xml(c.interface), c.multicast ? "true" : "false", c.max_participant_index,
       peers.empty() ? std::string{} : "<Peers>" + peers + "</Peers>", c.lease_duration.count(),
-      c.spdp_interval.count());
+      c.spdp_interval.count(), c.write_batch ? "true" : "false");
 }
 
 }  // namespace sf::dds

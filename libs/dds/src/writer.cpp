@@ -53,6 +53,9 @@ WriterBase::~WriterBase() {
 }
 
 void WriterBase::close() {
+  if (entity_.get() > 0) {
+    flush();  // nothing left in the batch is lost with the writer
+  }
   entity_.reset();
   if (core_) {
     core_->close();
@@ -60,22 +63,37 @@ void WriterBase::close() {
   }
 }
 
+void WriterBase::flush() const {
+  dds_write_flush(handle());
+}
+
+// With write batching, a write stays in the writer's batch until dds_write_flush (dds.h).
 Status WriterBase::write_raw(const void* sample) const {
-  if (const auto rc = dds_write(handle(), sample); rc < 0) {
+  const auto rc = dds_write(handle(), sample);
+  flush();
+  if (rc < 0) {
     return dds_error(rc, fmt::format("dds_write({})", topic_name_));
   }
   return {};
 }
 
-Status WriterBase::dispose_raw(const void* sample) const {
-  if (const auto rc = dds_dispose(handle(), sample); rc < 0) {
+Status WriterBase::dispose_raw(const void* sample, Send send) const {
+  const auto rc = dds_dispose(handle(), sample);
+  if (send == Send::now) {
+    flush();
+  }
+  if (rc < 0) {
     return dds_error(rc, fmt::format("dds_dispose({})", topic_name_));
   }
   return {};
 }
 
-Status WriterBase::unregister_raw(const void* sample) const {
-  if (const auto rc = dds_unregister_instance(handle(), sample); rc < 0) {
+Status WriterBase::unregister_raw(const void* sample, Send send) const {
+  const auto rc = dds_unregister_instance(handle(), sample);
+  if (send == Send::now) {
+    flush();
+  }
+  if (rc < 0) {
     return dds_error(rc, fmt::format("dds_unregister_instance({})", topic_name_));
   }
   return {};

@@ -58,6 +58,11 @@ TEST(CycloneConfig, LoopbackUsesLoWithoutMulticastAndUnicastPeers) {
   EXPECT_NE(xml->find("<AllowMulticast>false</AllowMulticast>"), std::string::npos);
   EXPECT_NE(xml->find("<Peer address=\"127.0.0.1\"/>"), std::string::npos);
   EXPECT_NE(xml->find("<MaxAutoParticipantIndex>119</MaxAutoParticipantIndex>"), std::string::npos);
+  // Writer flushes every write; end_instances flushes once for many (end_instances_test.cpp).
+  EXPECT_NE(xml->find("<WriteBatch>true</WriteBatch>"), std::string::npos);
+  auto unbatched = loopback_network();
+  unbatched.write_batch = false;
+  EXPECT_NE(cyclone_config_xml(unbatched)->find("<WriteBatch>false</WriteBatch>"), std::string::npos);
 }
 
 TEST(CycloneConfig, NamedInterfaceUsesMulticastDiscovery) {

@@ -13,7 +13,7 @@ Result<std::unique_ptr<MachineAgent>> MachineAgent::create(const DdsSettings& se
   for (const auto& s : config.skills) {
     ops.push_back(s.operation);
   }
-  auto endpoints = MachineEndpoints::create(settings, config.name, ops, executor);
+  auto endpoints = MachineEndpoints::create(settings, config.name, ops, executor, clock);
   if (!endpoints) {
     return endpoints.error();
   }
@@ -53,7 +53,8 @@ Result<std::unique_ptr<ProductAgent>> ProductAgent::create(const DdsSettings& se
     return Error{Errc::invalid_argument,
                  fmt::format("product {} needs operations and a count >= 1", config.name)};
   }
-  auto endpoints = ProductEndpoints::create(settings, config.name, config.operations, executor, config.route);
+  auto endpoints =
+      ProductEndpoints::create(settings, config.name, config.operations, executor, clock, config.route);
   if (!endpoints) {
     return endpoints.error();
   }
@@ -132,6 +133,7 @@ void ProductAgent::tick() {
     planner_->tick();
   }
   start_more();
+  endpoints_->flush_ended();
 }
 
 std::optional<Clock::time_point> ProductAgent::next_deadline() const {
@@ -141,13 +143,8 @@ std::optional<Clock::time_point> ProductAgent::next_deadline() const {
   if (next_ != products_.end() && running() < parallel_limit()) {
     return clock_->now();  // a product finished and the next may start: tick() starts it
   }
-  auto next = manager_->next_deadline();
-  if (planner_) {
-    if (auto p = planner_->next_deadline(); p && (!next || *p < *next)) {
-      next = p;
-    }
-  }
-  return next;
+  auto next = earliest(manager_->next_deadline(), endpoints_->ends_due());
+  return planner_ ? earliest(next, planner_->next_deadline()) : next;
 }
 
 bool ProductAgent::finished() const {
@@ -171,9 +168,7 @@ std::optional<Clock::time_point> next_deadline(const std::vector<Agent*>& agents
   std::optional<Clock::time_point> next;
   all_finished = !agents.empty();
   for (Agent* a : agents) {
-    if (auto d = a->next_deadline(); d && (!next || *d < *next)) {
-      next = d;
-    }
+    next = earliest(next, a->next_deadline());
     all_finished = all_finished && a->finished();
   }
   return next;

@@ -151,7 +151,7 @@ class Driver {
 
   Status setup(const std::function<void(std::string_view)>& progress) {
     executor_.set_spin(options_.spin);
-    auto ep = ProductEndpoints::create(settings_, "bench", {"OP1"}, executor_, false);
+    auto ep = ProductEndpoints::create(settings_, "bench", {"OP1"}, executor_, clock_, false);
     if (!ep) {
       return ep.error();
     }
@@ -317,6 +317,7 @@ class Driver {
       for (auto& m : machines_) {
         m->tick();
       }
+      endpoints_->flush_ended();
     }
     if (executor_.pending() == 0) {
       executor_.wait_for(1ms);

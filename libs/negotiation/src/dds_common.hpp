@@ -2,8 +2,10 @@
 // dds_conveyor.cpp): the topic types, the endpoint QoS and small helpers.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cnp_messages.h"
 #include "dds_codec.hpp"
@@ -33,14 +35,79 @@ Result<dds::Participant> join(const DdsSettings& s, dds::DomainId domain, const 
 // Failures to dispose are not the caller's problem: logged at debug level.
 void log_status(const log::Logger& log, const Status& st, std::string_view what);
 
+// Conversation ends leave in batches. The end of a conversation's instance (an unregister, which
+// carries the dispose) is a message to every reader of the topic; sent alone, it costs every
+// reader's process a datagram and a wake-up, as much as the conversation's own ANNOUNCE or AWARD
+// (with 4 contractor processes, 12 of a negotiation's 26 datagrams were ends). So an end waits,
+// at most kEndDelay, and leaves with the other ends of its writer in one datagram
+// (dds::Writer::end_instances), off the path of the conversations still running.
+inline constexpr std::chrono::milliseconds kEndDelay{5};
+// A full batch leaves at once (about 3 KiB of keys: well within one datagram).
+inline constexpr std::size_t kMaxEndBatch = 32;
+
+// A writer whose instance ends leave in batches: end_later queues, flush_ended sends once the
+// oldest queued end waited kEndDelay (the agents call it on every turn of their loop and wake
+// for ends_due()), a full batch or the destructor sends at once. Touched under the executor's
+// strand only.
+template <typename T>
+class EndingWriter {
+ public:
+  EndingWriter(dds::Writer<T> writer, const Clock& clock) : writer_(std::move(writer)), clock_(&clock) {}
+  EndingWriter(EndingWriter&&) noexcept = default;
+  EndingWriter& operator=(EndingWriter&&) = delete;
+  EndingWriter(const EndingWriter&) = delete;
+  EndingWriter& operator=(const EndingWriter&) = delete;
+  ~EndingWriter() { (void)send_ended(); }
+
+  Status write(const T& sample) const { return writer_.write(sample); }
+  // Only the key fields of `key` matter.
+  Status end_later(const T& key) {
+    if (ended_.empty()) {
+      since_ = clock_->now();
+    }
+    ended_.push_back(key);
+    return ended_.size() >= kMaxEndBatch ? send_ended() : Status{};
+  }
+  Status flush_ended(Clock::time_point now) {
+    if (ended_.empty() || now - since_ < kEndDelay) {
+      return {};
+    }
+    return send_ended();
+  }
+  // When flush_ended will send the queued ends; nothing when none waits.
+  [[nodiscard]] std::optional<Clock::time_point> ends_due() const {
+    if (ended_.empty()) {
+      return std::nullopt;
+    }
+    return since_ + kEndDelay;
+  }
+  [[nodiscard]] std::size_t waiting() const { return ended_.size(); }
+  [[nodiscard]] const dds::Writer<T>& writer() const { return writer_; }
+
+ private:
+  Status send_ended() {
+    if (ended_.empty()) {
+      return {};
+    }
+    auto st = writer_.end_instances(ended_);
+    ended_.clear();
+    return st;
+  }
+
+  dds::Writer<T> writer_;
+  const Clock* clock_;
+  std::vector<T> ended_;  // keys
+  Clock::time_point since_{};
+};
+
 }  // namespace sf::negotiation::detail
 
 // Creates `opt` from a Result, or returns its error from the enclosing function.
-#define SF_EMPLACE(opt, expr)                      \
-  do {                                             \
-    auto sf_emplace_result_ = (expr);              \
-    if (!sf_emplace_result_) {                     \
-      return sf_emplace_result_.error();           \
-    }                                              \
-    (opt).emplace(std::move(*sf_emplace_result_)); \
+#define SF_EMPLACE(opt, expr, ...)                                            \
+  do {                                                                        \
+    auto sf_emplace_result_ = (expr);                                         \
+    if (!sf_emplace_result_) {                                                \
+      return sf_emplace_result_.error();                                      \
+    }                                                                         \
+    (opt).emplace(std::move(*sf_emplace_result_) __VA_OPT__(, ) __VA_ARGS__); \
   } while (false)

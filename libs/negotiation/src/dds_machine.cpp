@@ -23,13 +23,14 @@ struct MachineOp {
   Opt<dds::Topic<sf_cnp_Announce>> announce_topic;
   Opt<dds::Topic<sf_cnp_ContractorMessage>> bid_topic;
   Opt<dds::Topic<sf_cnp_ManagerMessage>> award_topic;
-  Opt<dds::Writer<sf_cnp_ContractorMessage>> bid;
+  Opt<detail::EndingWriter<sf_cnp_ContractorMessage>> bid;
   Opt<dds::Reader<sf_cnp_Announce>> announce;
   Opt<dds::Reader<sf_cnp_ManagerMessage>> award;
 };
 
 struct MachineEndpoints::Impl {
   log::Logger log = log::get("negotiation");
+  const Clock* clock = nullptr;
   ContractorInbox* inbox = nullptr;
   std::string name;
   Opt<dds::Participant> participant;
@@ -50,7 +51,8 @@ Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
   SF_EMPLACE(op->announce_topic, dds::Topic<sf_cnp_Announce>::create(p, announce_topic(name_of_op)));
   SF_EMPLACE(op->bid_topic, dds::Topic<sf_cnp_ContractorMessage>::create(p, bid_topic(name_of_op)));
   SF_EMPLACE(op->award_topic, dds::Topic<sf_cnp_ManagerMessage>::create(p, award_topic(name_of_op)));
-  SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, writer_qos(s)));
+  SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, writer_qos(s)),
+             *clock);
   SF_EMPLACE(op->announce, dds::Reader<sf_cnp_Announce>::create(
                                p, *op->announce_topic, reader_qos(s), &ex,
                                [this, raw](const sf_cnp_Announce& m, const dds::SampleInfo& i) {
@@ -107,9 +109,11 @@ MachineEndpoints::~MachineEndpoints() = default;
 Result<std::unique_ptr<MachineEndpoints>> MachineEndpoints::create(const DdsSettings& settings,
                                                                    const std::string& name,
                                                                    const std::vector<std::string>& operations,
-                                                                   dds::Executor& executor) {
+                                                                   dds::Executor& executor,
+                                                                   const Clock& clock) {
   SF_TRY(validate_name("machine", name));
   auto impl = std::make_unique<Impl>();
+  impl->clock = &clock;
   impl->name = name;
   SF_EMPLACE(impl->participant, join(settings, settings.machining_domain, "machine/" + name));
   for (const auto& op : operations) {
@@ -135,13 +139,28 @@ Status MachineEndpoints::send(const ContractorMessage& m) {
   return it->second->bid->write(*sample);
 }
 
+// The ends leave in batches (EndingWriter).
 void MachineEndpoints::close(const std::string& operation, const std::string& conversation) {
   auto it = impl_->ops.find(operation);
   if (it != impl_->ops.end()) {
-    log_status(impl_->log,
-               it->second->bid->dispose_and_unregister(codec::contractor_key(conversation, impl_->name)),
+    log_status(impl_->log, it->second->bid->end_later(codec::contractor_key(conversation, impl_->name)),
                "dispose");
   }
+}
+
+void MachineEndpoints::flush_ended() {
+  const auto now = impl_->clock->now();
+  for (auto& [name, op] : impl_->ops) {
+    log_status(impl_->log, op->bid->flush_ended(now), "dispose");
+  }
+}
+
+std::optional<Clock::time_point> MachineEndpoints::ends_due() const {
+  std::optional<Clock::time_point> due;
+  for (const auto& [name, op] : impl_->ops) {
+    due = earliest(due, op->bid->ends_due());
+  }
+  return due;
 }
 
 const dds::Participant& MachineEndpoints::participant() const {
@@ -153,7 +172,7 @@ std::size_t MachineEndpoints::managers(const std::string& operation) const {
   if (it == impl_->ops.end()) {
     return 0;
   }
-  auto m = it->second->bid->publication_matched();
+  auto m = it->second->bid->writer().publication_matched();
   return m ? m->current_count : 0;
 }
 

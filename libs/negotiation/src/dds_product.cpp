@@ -23,14 +23,15 @@ struct ProductOp {
   Opt<dds::Topic<sf_cnp_Announce>> announce_topic;
   Opt<dds::Topic<sf_cnp_ContractorMessage>> bid_topic;
   Opt<dds::Topic<sf_cnp_ManagerMessage>> award_topic;
-  Opt<dds::Writer<sf_cnp_Announce>> announce;
-  Opt<dds::Writer<sf_cnp_ManagerMessage>> award;
+  Opt<detail::EndingWriter<sf_cnp_Announce>> announce;
+  Opt<detail::EndingWriter<sf_cnp_ManagerMessage>> award;
   Opt<dds::Reader<sf_cnp_ContractorMessage>> bid;
   std::map<dds_instance_handle_t, std::string> bidders;  // OPx_BID writer → contractor
 };
 
 struct ProductEndpoints::Impl {
   log::Logger log = log::get("negotiation");
+  const Clock* clock = nullptr;
   ManagerInbox* inbox = nullptr;
   RouteInbox* route_inbox = nullptr;
   // Declared first, destroyed last: the participants outlive their endpoints.
@@ -63,8 +64,10 @@ Status ProductEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
   SF_EMPLACE(op->announce_topic, dds::Topic<sf_cnp_Announce>::create(p, announce_topic(name)));
   SF_EMPLACE(op->bid_topic, dds::Topic<sf_cnp_ContractorMessage>::create(p, bid_topic(name)));
   SF_EMPLACE(op->award_topic, dds::Topic<sf_cnp_ManagerMessage>::create(p, award_topic(name)));
-  SF_EMPLACE(op->announce, dds::Writer<sf_cnp_Announce>::create(p, *op->announce_topic, writer_qos(s)));
-  SF_EMPLACE(op->award, dds::Writer<sf_cnp_ManagerMessage>::create(p, *op->award_topic, writer_qos(s)));
+  SF_EMPLACE(op->announce, dds::Writer<sf_cnp_Announce>::create(p, *op->announce_topic, writer_qos(s)),
+             *clock);
+  SF_EMPLACE(op->award, dds::Writer<sf_cnp_ManagerMessage>::create(p, *op->award_topic, writer_qos(s)),
+             *clock);
   SF_EMPLACE(
       op->bid,
       dds::Reader<sf_cnp_ContractorMessage>::create(
@@ -139,9 +142,11 @@ ProductEndpoints::~ProductEndpoints() = default;
 Result<std::unique_ptr<ProductEndpoints>> ProductEndpoints::create(const DdsSettings& settings,
                                                                    const std::string& name,
                                                                    const std::vector<std::string>& operations,
-                                                                   dds::Executor& executor, bool conveying) {
+                                                                   dds::Executor& executor,
+                                                                   const Clock& clock, bool conveying) {
   SF_TRY(validate_name("product", name));
   auto impl = std::make_unique<Impl>();
+  impl->clock = &clock;
   SF_EMPLACE(impl->machining, join(settings, settings.machining_domain, "product/" + name));
   for (const auto& op : operations) {
     SF_TRY(impl->add_operation(settings, op, executor));
@@ -188,12 +193,28 @@ Status ProductEndpoints::send(const ManagerMessage& m) {
   return op->award->write(*sample);
 }
 
+// The ends leave in batches (EndingWriter).
 void ProductEndpoints::close(const std::string& operation, const std::string& conversation) {
   if (ProductOp* op = impl_->find(operation)) {
-    log_status(impl_->log, op->announce->dispose_and_unregister(codec::announce_key(conversation)),
-               "dispose");
-    log_status(impl_->log, op->award->dispose_and_unregister(codec::manager_key(conversation)), "dispose");
+    log_status(impl_->log, op->announce->end_later(codec::announce_key(conversation)), "dispose");
+    log_status(impl_->log, op->award->end_later(codec::manager_key(conversation)), "dispose");
   }
+}
+
+void ProductEndpoints::flush_ended() {
+  const auto now = impl_->clock->now();
+  for (auto& [name, op] : impl_->ops) {
+    log_status(impl_->log, op->announce->flush_ended(now), "dispose");
+    log_status(impl_->log, op->award->flush_ended(now), "dispose");
+  }
+}
+
+std::optional<Clock::time_point> ProductEndpoints::ends_due() const {
+  std::optional<Clock::time_point> due;
+  for (const auto& [name, op] : impl_->ops) {
+    due = earliest(due, earliest(op->announce->ends_due(), op->award->ends_due()));
+  }
+  return due;
 }
 
 std::size_t ProductEndpoints::contractors(const std::string& operation) const {
@@ -201,7 +222,7 @@ std::size_t ProductEndpoints::contractors(const std::string& operation) const {
   if (op == nullptr) {
     return 0;
   }
-  auto m = op->announce->publication_matched();
+  auto m = op->announce->writer().publication_matched();
   return m ? m->current_count : 0;
 }
 

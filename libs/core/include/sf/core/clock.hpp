@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 
 namespace sf {
 
@@ -52,5 +53,14 @@ class ManualClock final : public Clock {
   std::atomic<std::int64_t> ns_{0};
   utc_time utc_start_;
 };
+
+// The earlier of two optional deadlines (nothing when neither is set).
+[[nodiscard]] inline std::optional<Clock::time_point> earliest(std::optional<Clock::time_point> a,
+                                                               std::optional<Clock::time_point> b) {
+  if (!a) {
+    return b;
+  }
+  return b && *b < *a ? b : a;
+}
 
 }  // namespace sf

@@ -34,6 +34,10 @@ struct NetworkConfig {
   // Participant lease (DDSI SPDP lease): a peer that vanishes is removed after it.
   std::chrono::milliseconds lease_duration{5000};
   std::chrono::milliseconds spdp_interval{1000};
+  // Internal/WriteBatch: a write leaves when its writer is flushed. Writer flushes after every
+  // write, dispose and unregister; Writer::end_instances flushes once after many ends, which
+  // then travel in one datagram.
+  bool write_batch = true;
 };
 
 // Loopback only: lo, unicast discovery to 127.0.0.1, no multicast.

@@ -38,9 +38,12 @@ class MachineAgent final : public Agent {
   static Result<std::unique_ptr<MachineAgent>> create(const DdsSettings& settings, ContractorConfig config,
                                                       ContractorEvents events, dds::Executor& executor,
                                                       const Clock& clock);
-  void tick() override { contractor_->tick(); }
+  void tick() override {
+    contractor_->tick();
+    endpoints_->flush_ended();
+  }
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const override {
-    return contractor_->next_deadline();
+    return earliest(contractor_->next_deadline(), endpoints_->ends_due());
   }
   [[nodiscard]] Contractor& contractor() { return *contractor_; }
   [[nodiscard]] const MachineEndpoints& endpoints() const { return *endpoints_; }

@@ -12,7 +12,11 @@
 // a contractor that starts late still sees the open calls, and a message sent
 // before discovery completed still arrives. Each conversation is an instance
 // (keyed by its id), disposed and unregistered when it ends, so writer
-// histories hold live conversations only. A machine's OPx_BID writer asserts
+// histories hold live conversations only. Ends leave in batches, one datagram
+// per writer: close() queues the end, flush_ended() sends the queue once its
+// oldest end waited 5 ms (the agents call it on every turn of their loop and
+// wake at ends_due()), a full queue leaves at once. Readers in the same
+// process see the end when it leaves. A machine's OPx_BID writer asserts
 // AUTOMATIC liveliness with a short lease: when the machine dies, every
 // product's OPx_BID reader sees LIVELINESS_CHANGED for that writer and the
 // manager renegotiates what the machine had confirmed.
@@ -20,9 +24,11 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "sf/core/clock.hpp"
 #include "sf/core/result.hpp"
 #include "sf/dds/config.hpp"
 #include "sf/dds/executor.hpp"
@@ -42,11 +48,13 @@ struct DdsSettings {
 
 class ProductEndpoints final : public ManagerTransport, public RouteTransport {
  public:
-  // `conveying`: also join the ConveyingDomain (for route negotiation).
+  // `conveying`: also join the ConveyingDomain (for route negotiation). `clock` times the
+  // batches of conversation ends.
   static Result<std::unique_ptr<ProductEndpoints>> create(const DdsSettings& settings,
                                                           const std::string& name,
                                                           const std::vector<std::string>& operations,
-                                                          dds::Executor& executor, bool conveying = true);
+                                                          dds::Executor& executor, const Clock& clock,
+                                                          bool conveying = true);
   ~ProductEndpoints() override;
 
   void bind(ManagerInbox& inbox);
@@ -55,6 +63,10 @@ class ProductEndpoints final : public ManagerTransport, public RouteTransport {
   Status announce(const Announce& announce) override;
   Status send(const ManagerMessage& message) override;
   void close(const std::string& operation, const std::string& conversation) override;
+  // Sends the queued conversation ends once the oldest waited long enough (see above).
+  void flush_ended();
+  // When flush_ended() will send; nothing when no end waits.
+  [[nodiscard]] std::optional<Clock::time_point> ends_due() const;
   [[nodiscard]] std::size_t contractors(const std::string& operation) const override;
   Status request(const TransportRequest& request) override;
   void close(const std::string& conversation) override;
@@ -77,12 +89,16 @@ class MachineEndpoints final : public ContractorTransport {
   static Result<std::unique_ptr<MachineEndpoints>> create(const DdsSettings& settings,
                                                           const std::string& name,
                                                           const std::vector<std::string>& operations,
-                                                          dds::Executor& executor);
+                                                          dds::Executor& executor, const Clock& clock);
   ~MachineEndpoints() override;
 
   void bind(ContractorInbox& inbox);
   Status send(const ContractorMessage& message) override;
   void close(const std::string& operation, const std::string& conversation) override;
+  // Sends the queued conversation ends once the oldest waited long enough (see above).
+  void flush_ended();
+  // When flush_ended() will send; nothing when no end waits.
+  [[nodiscard]] std::optional<Clock::time_point> ends_due() const;
   [[nodiscard]] const dds::Participant& participant() const;
   // Products currently listening (matched to this machine's OPx_BID writers).
   [[nodiscard]] std::size_t managers(const std::string& operation) const;

@@ -1,0 +1,90 @@
+// Writer under Cyclone's write batching (Internal/WriteBatch, on in the
+// generated configuration), with a reader in another process (dds_test_peer):
+// every write still leaves at once, end_instances ends many instances with one
+// flush.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dds_test_support.hpp"
+#include "sf/testing/child_process.hpp"
+
+namespace sf::dds {
+namespace {
+
+using namespace std::chrono_literals;
+using test::reading;
+
+class RemoteReader : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    participant.emplace(test::make_participant("writer", partition));
+    topic.emplace(Topic<sf_ddstest_Reading>::create(*participant, "Readings").value());
+    writer.emplace(
+        Writer<sf_ddstest_Reading>::create(*participant, *topic, QosBuilder{}.reliable().keep_last(8).build())
+            .value());
+    ASSERT_TRUE(peer.spawn({SF_DDS_TEST_PEER, std::to_string(test::kTestDomain), partition}, ".", true));
+    ASSERT_TRUE(peer.wait_for_line([](const std::string& l) { return l == "ready"; }, 30s));
+    // Discovery is not symmetric: the writer must know the reader too before it writes.
+    const auto end = std::chrono::steady_clock::now() + 30s;
+    while (writer->publication_matched().value().current_count == 0) {
+      ASSERT_LT(std::chrono::steady_clock::now(), end) << "the writer never matched the peer's reader";
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  void TearDown() override { peer.stop(false); }
+
+  // Reads the peer's lines until `line` (true) or `bound` passes (false).
+  bool peer_says(const std::string& line, std::chrono::milliseconds bound = 20s) {
+    return peer.wait_for_line([&](const std::string& l) { return l == line; }, bound);
+  }
+  // The peer's next `n` lines (fewer if it stops talking for 20 s). One read may hold several
+  // lines, and wait_for_line drops those after the one it accepts: collect them in one call.
+  std::vector<std::string> peer_lines(std::size_t n) {
+    std::vector<std::string> lines;
+    peer.wait_for_line(
+        [&](const std::string& l) {
+          lines.push_back(l);
+          return lines.size() == n;
+        },
+        20s);
+    return lines;
+  }
+
+  const std::string partition = test::private_partition("remote");
+  std::optional<Participant> participant;
+  std::optional<Topic<sf_ddstest_Reading>> topic;
+  std::optional<Writer<sf_ddstest_Reading>> writer;
+  testing::ChildProcess peer;
+};
+
+// A write waits in the batch only until its flush, which Writer does at once: the
+// peer would never see the samples otherwise.
+TEST_F(RemoteReader, EveryWriteLeavesAtOnceUnderWriteBatch) {
+  ASSERT_TRUE(writer->write(reading("a", 1)).ok());
+  ASSERT_TRUE(writer->write(reading("b", 1)).ok());
+  EXPECT_EQ(peer_lines(2), (std::vector<std::string>{"alive a", "alive b"}));
+  ASSERT_TRUE(writer->dispose_and_unregister(reading("a", 0)).ok());
+  EXPECT_TRUE(peer_says("disposed a"));
+}
+
+TEST_F(RemoteReader, EndInstancesEndsThemAll) {
+  ASSERT_TRUE(writer->write(reading("d", 1)).ok());
+  ASSERT_TRUE(writer->write(reading("e", 1)).ok());
+  ASSERT_EQ(peer_lines(2), (std::vector<std::string>{"alive d", "alive e"}));
+  const std::vector<sf_ddstest_Reading> ended{reading("d", 0), reading("e", 0)};
+  ASSERT_TRUE(writer->end_instances(ended).ok());
+  EXPECT_EQ(peer_lines(2), (std::vector<std::string>{"disposed d", "disposed e"}));
+}
+
+TEST_F(RemoteReader, NoEndsIsNothing) {
+  EXPECT_TRUE(writer->end_instances({}).ok());
+  ASSERT_TRUE(writer->write(reading("g", 1)).ok());
+  EXPECT_EQ(peer_lines(1), (std::vector<std::string>{"alive g"}));
+}
+
+}  // namespace
+}  // namespace sf::dds

@@ -40,8 +40,11 @@ void log_status(const log::Logger& log, const Status& st, std::string_view what)
 // reader's process a datagram and a wake-up, as much as the conversation's own ANNOUNCE or AWARD
 // (with 4 contractor processes, 12 of a negotiation's 26 datagrams were ends). So an end waits,
 // at most kEndDelay, and leaves with the other ends of its writer in one datagram
-// (dds::Writer::end_instances), off the path of the conversations still running.
-inline constexpr std::chrono::milliseconds kEndDelay{5};
+// (dds::Writer::end_instances), off the path of the conversations still running. The delay is
+// long enough for many ends to gather where negotiations are slow because the contractor
+// processes are many: with 64 of them a negotiation takes about 3 ms, and a 5 ms delay sent
+// nearly every end alone (docs/performance.md).
+inline constexpr std::chrono::milliseconds kEndDelay{50};
 // A full batch leaves at once (about 3 KiB of keys: well within one datagram).
 inline constexpr std::size_t kMaxEndBatch = 32;
 

@@ -14,7 +14,7 @@
 // (keyed by its id), disposed and unregistered when it ends, so writer
 // histories hold live conversations only. Ends leave in batches, one datagram
 // per writer: close() queues the end, flush_ended() sends the queue once its
-// oldest end waited 5 ms (the agents call it on every turn of their loop and
+// oldest end waited 50 ms (the agents call it on every turn of their loop and
 // wake at ends_due()), a full queue leaves at once. Readers in the same
 // process see the end when it leaves. A machine's OPx_BID writer asserts
 // AUTOMATIC liveliness with a short lease: when the machine dies, every

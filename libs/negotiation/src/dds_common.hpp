@@ -39,19 +39,21 @@ void log_status(const log::Logger& log, const Status& st, std::string_view what)
 // carries the dispose) is a message to every reader of the topic; sent alone, it costs every
 // reader's process a datagram and a wake-up, as much as the conversation's own ANNOUNCE or AWARD
 // (with 4 contractor processes, 12 of a negotiation's 26 datagrams were ends). So an end waits,
-// at most kEndDelay, and leaves with the other ends of its writer in one datagram
-// (dds::Writer::end_instances), off the path of the conversations still running. The delay is
+// at most kEndDelay, and leaves with the other ends of its writer with one flush, usually one
+// datagram (dds::Writer::end_instances), mostly off the path of the conversations still
+// running (a full batch leaves from the handler that ended the conversation). The delay is
 // long enough for many ends to gather where negotiations are slow because the contractor
 // processes are many: with 64 of them a negotiation takes about 3 ms, and a 5 ms delay sent
 // nearly every end alone (docs/performance.md).
 inline constexpr std::chrono::milliseconds kEndDelay{50};
-// A full batch leaves at once (about 3 KiB of keys: well within one datagram).
+// A full batch leaves at once (3–5 KiB of keys: within one datagram).
 inline constexpr std::size_t kMaxEndBatch = 32;
 
 // A writer whose instance ends leave in batches: end_later queues, flush_ended sends once the
 // oldest queued end waited kEndDelay (the agents call it on every turn of their loop and wake
 // for ends_due()), a full batch or the destructor sends at once. Touched under the executor's
-// strand only.
+// strand only; the destructor runs outside it, so no handler may still run inline (the agents
+// and the bench turn inline delivery off before their endpoints go).
 template <typename T>
 class EndingWriter {
  public:

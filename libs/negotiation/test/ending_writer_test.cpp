@@ -44,12 +44,13 @@ class EndingWriterTest : public ::testing::Test {
   Status end(const std::string& conversation) {
     return writer->end_later(codec::contractor_key(conversation, "M1"));
   }
-  // The conversations whose instance the reader saw end since the last call.
+  // The conversations whose instance the reader saw disposed since the last call (an instance
+  // whose writer went without disposing it is NoWriters, not counted).
   std::set<std::string> ended() {
     std::set<std::string> out;
     EXPECT_TRUE(reader
                     ->take([&](const sf_cnp_ContractorMessage& s, const dds::SampleInfo& info) {
-                      if (info.instance_state != dds::InstanceState::Alive) {
+                      if (info.instance_state == dds::InstanceState::Disposed) {
                         out.insert(s.conversation);
                       }
                     })
@@ -116,8 +117,19 @@ TEST_F(EndingWriterTest, AFullBatchLeavesAtOnce) {
   EXPECT_EQ(writer->waiting(), 0u);
 }
 
+// Without autodispose, deleting the DDS writer alone leaves the instance NoWriters: only the
+// ends the EndingWriter sends on its way out dispose it.
 TEST_F(EndingWriterTest, WaitingEndsLeaveWhenTheWriterGoes) {
+  writer.reset();
+  const auto qos = dds::QosBuilder{}
+                       .reliable(1s)
+                       .durability(dds::Durability::TransientLocal)
+                       .keep_last(settings.history_depth)
+                       .autodispose_unregistered_instances(false)
+                       .build();
+  writer.emplace(dds::Writer<sf_cnp_ContractorMessage>::create(*participant, *topic, qos).value(), clock);
   bid("c1");
+  bid("c2");
   (void)ended();
   ASSERT_TRUE(end("c1").ok());
   EXPECT_TRUE(ended().empty());

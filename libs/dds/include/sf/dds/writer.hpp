@@ -90,7 +90,8 @@ class Writer : public WriterBase {
   // With autodispose_unregistered_instances (the default) the unregister
   // carries the dispose: one message to every reader instead of two.
   Status dispose_and_unregister(const T& key) const { return end_instance(key, Send::now); }
-  // Ends the instances of `keys` in one datagram.
+  // Ends the instances of `keys` with one flush: usually one datagram per reader (Cyclone may
+  // send part of the batch early, e.g. when a write after an idle spell asks for an ack).
   Status end_instances(std::span<const T> keys) const { return end_all(keys); }
 
  private:

@@ -12,7 +12,7 @@
 // a contractor that starts late still sees the open calls, and a message sent
 // before discovery completed still arrives. Each conversation is an instance
 // (keyed by its id), disposed and unregistered when it ends, so writer
-// histories hold live conversations only. Ends leave in batches, one datagram
+// histories hold live conversations only. Ends leave in batches, one flush
 // per writer: close() queues the end, flush_ended() sends the queue once its
 // oldest end waited 50 ms (the agents call it on every turn of their loop and
 // wake at ends_due()), a full queue leaves at once. Readers in the same

@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   auto xml = cyclone_config_xml(loopback_network());
+  if (!xml) {
+    std::fprintf(stderr, "dds_test_peer: %s\n", xml.error().describe().c_str());
+    return 1;
+  }
   auto participant = Participant::create(static_cast<DomainId>(std::atoi(argv[1])), {*xml, "peer", argv[2]});
   if (!participant) {
     std::fprintf(stderr, "dds_test_peer: %s\n", participant.error().describe().c_str());

@@ -67,36 +67,28 @@ void WriterBase::flush() const {
   dds_write_flush(handle());
 }
 
-// With write batching, a write stays in the writer's batch until dds_write_flush (dds.h).
-Status WriterBase::write_raw(const void* sample) const {
-  const auto rc = dds_write(handle(), sample);
-  flush();
+// With write batching, a message stays in the writer's batch until dds_write_flush (dds.h): it
+// is flushed even when Cyclone refused it, so nothing queued before it is held back.
+Status WriterBase::finish(dds_return_t rc, Send send, std::string_view call) const {
+  if (send == Send::now) {
+    flush();
+  }
   if (rc < 0) {
-    return dds_error(rc, fmt::format("dds_write({})", topic_name_));
+    return dds_error(rc, fmt::format("{}({})", call, topic_name_));
   }
   return {};
+}
+
+Status WriterBase::write_raw(const void* sample) const {
+  return finish(dds_write(handle(), sample), Send::now, "dds_write");
 }
 
 Status WriterBase::dispose_raw(const void* sample, Send send) const {
-  const auto rc = dds_dispose(handle(), sample);
-  if (send == Send::now) {
-    flush();
-  }
-  if (rc < 0) {
-    return dds_error(rc, fmt::format("dds_dispose({})", topic_name_));
-  }
-  return {};
+  return finish(dds_dispose(handle(), sample), send, "dds_dispose");
 }
 
 Status WriterBase::unregister_raw(const void* sample, Send send) const {
-  const auto rc = dds_unregister_instance(handle(), sample);
-  if (send == Send::now) {
-    flush();
-  }
-  if (rc < 0) {
-    return dds_error(rc, fmt::format("dds_unregister_instance({})", topic_name_));
-  }
-  return {};
+  return finish(dds_unregister_instance(handle(), sample), send, "dds_unregister_instance");
 }
 
 Result<MatchedStatus> WriterBase::publication_matched() const {

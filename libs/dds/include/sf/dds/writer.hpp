@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include <dds/dds.h>
 
@@ -53,6 +54,8 @@ class WriterBase {
   Status write_raw(const void* sample) const;
   Status dispose_raw(const void* sample, Send send) const;
   Status unregister_raw(const void* sample, Send send) const;
+  // The result of a write, dispose or unregister `call`, flushed when `send` is now.
+  Status finish(dds_return_t rc, Send send, std::string_view call) const;
 
  private:
   WriterBase(Entity entity, std::shared_ptr<detail::ListenerCore> core, std::string topic_name,
@@ -91,20 +94,9 @@ class Writer : public WriterBase {
   // carries the dispose: one message to every reader instead of two.
   Status dispose_and_unregister(const T& key) const { return end_instance(key, Send::now); }
   // Ends the instances of `keys` with one flush: usually one datagram per reader (Cyclone may
-  // send part of the batch early, e.g. when a write after an idle spell asks for an ack).
-  Status end_instances(std::span<const T> keys) const { return end_all(keys); }
-
- private:
-  explicit Writer(WriterBase&& base) : WriterBase(std::move(base)) {}
-  Status end_instance(const T& key, Send send) const {
-    if (!autodispose()) {
-      SF_TRY(dispose_raw(&key, send));
-    }
-    return unregister_raw(&key, send);
-  }
-  // Every end waits in the batch; one flush sends them together. The first error is returned,
-  // after the others were still tried.
-  Status end_all(std::span<const T> keys) const {
+  // send part of the batch early, e.g. when a write after an idle spell asks for an ack). The
+  // first error is returned, after the other ends were still tried.
+  Status end_instances(std::span<const T> keys) const {
     Status first_error;
     for (const T& key : keys) {
       if (auto st = end_instance(key, Send::later); !st && first_error) {
@@ -113,6 +105,15 @@ class Writer : public WriterBase {
     }
     flush();
     return first_error;
+  }
+
+ private:
+  explicit Writer(WriterBase&& base) : WriterBase(std::move(base)) {}
+  Status end_instance(const T& key, Send send) const {
+    if (!autodispose()) {
+      SF_TRY(dispose_raw(&key, send));
+    }
+    return unregister_raw(&key, send);
   }
 };
 

@@ -110,9 +110,11 @@ Result<Qos> ReaderBase::qos() const {
 Result<std::size_t> ReaderBase::take_raw(dds_entity_t reader, std::size_t max, const RawSampleFn& fn) {
   constexpr std::size_t kMaxBatch = 256;
   max = std::min(max, kMaxBatch);
-  std::array<void*, kMaxBatch> samples{};
-  std::array<dds_sample_info_t, kMaxBatch> infos{};
-  // samples[0] == nullptr asks Cyclone to lend its own buffers.
+  // Left uninitialised: zeroing 256 sample infos (16 KiB) on every take was a quarter of a busy
+  // reader thread's time. Cyclone fills entries 0..n-1; only those are read.
+  std::array<void*, kMaxBatch> samples;            // NOLINT(cppcoreguidelines-pro-type-member-init)
+  std::array<dds_sample_info_t, kMaxBatch> infos;  // NOLINT(cppcoreguidelines-pro-type-member-init)
+  samples[0] = nullptr;                            // asks Cyclone to lend its own buffers
   const dds_return_t n = dds_take(reader, samples.data(), infos.data(), max, static_cast<std::uint32_t>(max));
   if (n < 0) {
     return dds_error(n, "dds_take");

@@ -89,7 +89,9 @@ class Reader : public ReaderBase {
   explicit Reader(ReaderBase&& base) : ReaderBase(std::move(base)) {}
 
   static void drain(dds_entity_t reader, const Callback& cb) {
-    constexpr std::size_t kBatch = 64;
+    // Small: returning a loan zeroes all of Cyclone's loan buffer, which is as many samples as
+    // the largest take asked for. A listener usually finds one or two samples.
+    constexpr std::size_t kBatch = 8;
     for (;;) {
       auto n = take_raw(reader, kBatch, [&cb](const void* s, const SampleInfo& info) {
         cb(*static_cast<const T*>(s), info);

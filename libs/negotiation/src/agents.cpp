@@ -220,6 +220,7 @@ void run_agents(dds::Executor& executor, const Clock& clock, const std::vector<A
   InlineDelivery delivery{executor, agents, stop, options.inline_delivery};
   while (true) {
     bool all_finished = false;
+    bool stopping = false;
     std::optional<Clock::time_point> next;
     {
       const auto strand = executor.hold();
@@ -232,8 +233,10 @@ void run_agents(dds::Executor& executor, const Clock& clock, const std::vector<A
       }
       next = next_deadline(agents, all_finished);
       delivery.sleeps_until(next);
+      // What ran here may have made stop() true; nothing would wake the sleep below for it.
+      stopping = stop();
     }
-    if (all_finished) {
+    if (all_finished || stopping) {
       return;
     }
     if (executor.pending() > 0) {

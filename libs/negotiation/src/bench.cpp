@@ -137,6 +137,23 @@ double percentile(const std::vector<double>& sorted, double p) {
   return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
 }
 
+// The benchmark's manager as an agent, so that run_agents drives it with the contractors.
+class ManagerAgent final : public Agent {
+ public:
+  ManagerAgent(Manager& manager, ProductEndpoints& endpoints) : manager_(manager), endpoints_(endpoints) {}
+  void tick() override {
+    manager_.tick();
+    endpoints_.flush_ended();
+  }
+  [[nodiscard]] std::optional<Clock::time_point> next_deadline() const override {
+    return earliest(manager_.next_deadline(), endpoints_.ends_due());
+  }
+
+ private:
+  Manager& manager_;
+  ProductEndpoints& endpoints_;
+};
+
 // The side of the benchmark that negotiates: a product with one manager.
 class Driver {
  public:
@@ -163,30 +180,22 @@ class Driver {
     manager_ = std::make_unique<Manager>(*endpoints_, clock_, mc, earliest_finish());
     endpoints_->bind(static_cast<ManagerInbox&>(*manager_));
     SF_TRY(start_contractors());
+    manager_agent_ = std::make_unique<ManagerAgent>(*manager_, *endpoints_);
+    agents_.push_back(manager_agent_.get());
+    for (auto& m : machines_) {
+      agents_.push_back(m.get());
+    }
     if (progress) {
       progress(fmt::format("waiting for {} contractors to be discovered", options_.contractors));
     }
-    const auto end = clock_.now() + 120s;
-    while (endpoints_->contractors("OP1") < options_.contractors ||
-           endpoints_->bidders("OP1") < options_.contractors) {
-      if (clock_.now() > end) {
-        return Error{Errc::timeout, fmt::format("only {} of {} contractors discovered",
-                                                endpoints_->contractors("OP1"), options_.contractors)};
-      }
-      pump();
-    }
-    if (options_.inline_delivery) {
+    const auto discovered = [this] {
+      return endpoints_->contractors("OP1") >= options_.contractors &&
+             endpoints_->bidders("OP1") >= options_.contractors;
+    };
+    if (auto st = pump_until(discovered, 120s); !st) {
       const auto strand = executor_.hold();
-      // Wake the pumping thread only for what it waits for, or for a
-      // contractor's timer (in-process contractors finish work in tick()).
-      executor_.set_wake_check([this] {
-        const auto now = clock_.now();
-        return (done_ && done_()) || std::any_of(machines_.begin(), machines_.end(), [&](const auto& m) {
-                 const auto d = m->next_deadline();
-                 return d && *d <= now;
-               });
-      });
-      executor_.set_inline(true);
+      return Error{Errc::timeout, fmt::format("only {} of {} contractors discovered",
+                                              endpoints_->contractors("OP1"), options_.contractors)};
     }
     return {};
   }
@@ -309,45 +318,26 @@ class Driver {
     return {};
   }
 
-  void pump() {
-    {
-      const auto strand = executor_.hold();
-      executor_.run_pending();
-      manager_->tick();
-      for (auto& m : machines_) {
-        m->tick();
-      }
-      endpoints_->flush_ended();
+  // Runs the agents (the manager, in-process contractors) until done(), called under the strand,
+  // holds, or `limit` passes. run_agents sleeps until the earliest timer and, with inline
+  // delivery, is woken by a message only when it moved a timer earlier or made done() true: no
+  // polling, so the driver costs no thread wake-ups of its own.
+  Status pump_until(const std::function<bool()>& done, std::chrono::seconds limit = 60s) {
+    const auto end = clock_.now() + limit;
+    bool timed_out = false;
+    run_agents(executor_, clock_, agents_,
+               [&] {
+                 if (done()) {
+                   return true;
+                 }
+                 timed_out = clock_.now() > end;
+                 return timed_out;
+               },
+               {options_.inline_delivery});
+    if (timed_out) {
+      return Error{Errc::timeout, fmt::format("a negotiation did not complete within {} s", limit.count())};
     }
-    if (executor_.pending() == 0) {
-      executor_.wait_for(1ms);
-    }
-  }
-
-  // Pumps until done() (called under the strand) is true.
-  Status pump_until(std::function<bool()> done) {
-    const auto end = clock_.now() + 60s;
-    set_done(std::move(done));
-    while (true) {
-      {
-        const auto strand = executor_.hold();
-        if (done_()) {
-          break;
-        }
-      }
-      if (clock_.now() > end) {
-        set_done({});
-        return Error{Errc::timeout, "a negotiation did not complete within 60 s"};
-      }
-      pump();
-    }
-    set_done({});
     return {};
-  }
-
-  void set_done(std::function<bool()> done) {
-    const auto strand = executor_.hold();
-    done_ = std::move(done);
   }
 
   const BenchOptions& options_;
@@ -358,7 +348,8 @@ class Driver {
   std::unique_ptr<ProductEndpoints> endpoints_;
   std::unique_ptr<Manager> manager_;
   std::vector<std::unique_ptr<MachineAgent>> machines_;
-  std::function<bool()> done_;  // what pump_until waits for; under the strand
+  std::unique_ptr<Agent> manager_agent_;
+  std::vector<Agent*> agents_;  // what pump_until runs
 };
 
 }  // namespace

@@ -200,60 +200,54 @@ class Driver {
     return {};
   }
 
-  // One negotiation at a time; returns the latencies in microseconds.
+  // One negotiation at a time; returns the latencies in microseconds. The next starts once this
+  // conversation has ended (INFORM-DONE), so the contractor's report of the work is not measured
+  // as part of the next one. It starts from the handler of that end, on whichever thread ran it,
+  // as a product starts its next operation and as ddsperf's ping sends its next ping: waking
+  // this thread in between would cost every negotiation a thread wake-up.
   Result<std::vector<double>> sequential(std::size_t n) {
     std::vector<double> latencies;
-    for (std::size_t i = 0; i < n; ++i) {
-      bool confirmed = false;
-      bool done = false;
-      auto strand = executor_.hold();
-      auto id = manager_->negotiate(
-          {"bench", "OP1", {}, {}},
-          {[&](const Conversation& c) {
-             confirmed = true;
-             latencies.push_back(
-                 std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
-           },
-           [&](const Conversation&) { done = true; },
-           {}});
-      if (!id) {
-        return id.error();
-      }
-      strand.unlock();
-      // The next starts once this conversation has ended (INFORM-DONE): one
-      // negotiation at a time means the contractor's report of the work is
-      // not measured as part of the next one.
-      SF_TRY(pump_until([&] { return confirmed && done; }));
-    }
-    const auto strand = executor_.hold();
+    std::size_t ended = 0;
+    std::function<void()> next = [&] {
+      start({[&](const Conversation& c) {
+               latencies.push_back(
+                   std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
+             },
+             [&](const Conversation&) {
+               if (++ended < n) {
+                 next();
+               }
+             },
+             {}});
+    };
+    SF_TRY(run_chain(next, [&] { return ended >= n; }));
     return latencies;
   }
 
-  // `window` negotiations in flight; returns negotiations per second.
+  // `window` negotiations in flight: each confirmation starts the next; returns negotiations per
+  // second.
   Result<double> pipelined(std::size_t n, std::size_t window) {
     std::size_t started = 0;
     std::size_t confirmed = 0;
+    std::function<void()> next = [&] {
+      ++started;
+      start({[&](const Conversation&) {
+               ++confirmed;
+               if (started < n) {
+                 next();
+               }
+             },
+             {},
+             {}});
+    };
     const auto t0 = clock_.now();
-    while (true) {
-      std::size_t before = 0;
-      {
-        // `confirmed` changes in handlers, which may run on DDS threads.
-        const auto strand = executor_.hold();
-        if (confirmed >= n) {
-          break;
-        }
-        while (started < n && started - confirmed < window) {
-          auto id = manager_->negotiate({"bench", "OP1", {}, {}},
-                                        {[&](const Conversation&) { ++confirmed; }, {}, {}});
-          if (!id) {
-            return id.error();
+    SF_TRY(run_chain(
+        [&] {
+          while (started < std::min(n, window)) {
+            next();
           }
-          ++started;
-        }
-        before = confirmed;
-      }
-      SF_TRY(pump_until([&] { return confirmed > before; }));
-    }
+        },
+        [&] { return confirmed >= n; }));
     return static_cast<double>(n) / std::chrono::duration<double>(clock_.now() - t0).count();
   }
 
@@ -318,6 +312,28 @@ class Driver {
     return {};
   }
 
+  // Starts a negotiation of OP1 (under the strand); a failure to start ends the chain.
+  void start(ConversationEvents events) {
+    if (auto id = manager_->negotiate({"bench", "OP1", {}, {}}, std::move(events)); !id && !chain_error_) {
+      chain_error_ = id.error();
+    }
+  }
+
+  // Calls first() under the strand, then runs until done() or a negotiation could not start.
+  Status run_chain(const std::function<void()>& first, const std::function<bool()>& done) {
+    {
+      const auto strand = executor_.hold();
+      chain_error_.reset();
+      first();
+    }
+    SF_TRY(pump_until([&] { return done() || chain_error_.has_value(); }));
+    const auto strand = executor_.hold();
+    if (chain_error_) {
+      return *chain_error_;
+    }
+    return {};
+  }
+
   // Runs the agents (the manager, in-process contractors) until done(), called under the strand,
   // holds, or `limit` passes. run_agents sleeps until the earliest timer and, with inline
   // delivery, is woken by a message only when it moved a timer earlier or made done() true: no
@@ -349,7 +365,8 @@ class Driver {
   std::unique_ptr<Manager> manager_;
   std::vector<std::unique_ptr<MachineAgent>> machines_;
   std::unique_ptr<Agent> manager_agent_;
-  std::vector<Agent*> agents_;  // what pump_until runs
+  std::vector<Agent*> agents_;        // what pump_until runs
+  std::optional<Error> chain_error_;  // under the strand
 };
 
 }  // namespace

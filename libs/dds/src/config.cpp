@@ -54,9 +54,15 @@ Result<std::string> cyclone_config_xml(const NetworkConfig& c) {
     return Error{Errc::invalid_argument, fmt::format("max participant index {} outside 0..{}",
                                                      c.max_participant_index, kMaxParticipantIndex)};
   }
-  if (c.lease_duration.count() <= 0 || c.spdp_interval.count() <= 0) {
-    return Error{Errc::invalid_argument, "lease duration and SPDP interval must be positive"};
+  if (c.lease_duration.count() <= 0 || c.spdp_interval.count() <= 0 ||
+      (c.heartbeat_interval && c.heartbeat_interval->count() <= 0)) {
+    return Error{Errc::invalid_argument, "lease duration, SPDP and heartbeat intervals must be positive"};
   }
+  // The interval is also the upper bound of Cyclone's adaptive heartbeat rate (attribute max).
+  const std::string heartbeat =
+      c.heartbeat_interval ? fmt::format("<HeartbeatInterval max=\"{0}ms\">{0}ms</HeartbeatInterval>",
+                                         c.heartbeat_interval->count())
+                           : std::string{};
   std::string peers;
   for (const auto& p : c.peers) {
     if (!is_xml_safe(p)) {
@@ -70,11 +76,11 @@ Result<std::string> cyclone_config_xml(const NetworkConfig& c) {
       "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
       "<MaxAutoParticipantIndex>{}</MaxAutoParticipantIndex>"
       "{}<LeaseDuration>{}ms</LeaseDuration><SPDPInterval>{}ms</SPDPInterval></Discovery>"
-      "<Internal><WriteBatch>{}</WriteBatch></Internal>"
+      "<Internal><WriteBatch>{}</WriteBatch>{}</Internal>"
       "</Domain></CycloneDDS>",
       interface_xml(c.interface), c.multicast ? "true" : "false", c.max_participant_index,
       peers.empty() ? std::string{} : "<Peers>" + peers + "</Peers>", c.lease_duration.count(),
-      c.spdp_interval.count(), c.write_batch ? "true" : "false");
+      c.spdp_interval.count(), c.write_batch ? "true" : "false", heartbeat);
 }
 
 }  // namespace sf::dds

@@ -25,8 +25,9 @@ inline std::string private_partition(std::string_view tag) {
   return fmt::format("sf-dds-test-{}-{}", ::getpid(), tag);
 }
 
-inline Participant make_participant(std::string name, std::string partition) {
-  auto xml = cyclone_config_xml(loopback_network());
+inline Participant make_participant(std::string name, std::string partition,
+                                    const NetworkConfig& network = loopback_network()) {
+  auto xml = cyclone_config_xml(network);
   EXPECT_TRUE(xml.ok());
   auto p = Participant::create(kTestDomain, {*xml, std::move(name), std::move(partition)});
   if (!p) {

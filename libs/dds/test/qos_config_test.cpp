@@ -63,6 +63,19 @@ TEST(CycloneConfig, LoopbackUsesLoWithoutMulticastAndUnicastPeers) {
   auto unbatched = loopback_network();
   unbatched.write_batch = false;
   EXPECT_NE(cyclone_config_xml(unbatched)->find("<WriteBatch>false</WriteBatch>"), std::string::npos);
+  EXPECT_EQ(xml->find("HeartbeatInterval"), std::string::npos);  // Cyclone's default
+}
+
+TEST(CycloneConfig, HeartbeatIntervalIsItsValueAndItsUpperBound) {
+  auto c = loopback_network();
+  c.heartbeat_interval = std::chrono::minutes{2};
+  auto xml = cyclone_config_xml(c);
+  ASSERT_TRUE(xml.ok()) << xml.error().describe();
+  EXPECT_NE(xml->find("<Internal><WriteBatch>true</WriteBatch>"
+                      "<HeartbeatInterval max=\"120000ms\">120000ms</HeartbeatInterval></Internal>"),
+            std::string::npos);
+  c.heartbeat_interval = std::chrono::milliseconds{0};
+  EXPECT_FALSE(cyclone_config_xml(c).ok());
 }
 
 TEST(CycloneConfig, NamedInterfaceUsesMulticastDiscovery) {

@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct NetworkConfig {
   // write, dispose and unregister; Writer::end_instances flushes once after many ends, which
   // then travel in one datagram.
   bool write_batch = true;
+  // Internal/HeartbeatInterval: how often a reliable writer with unacknowledged data announces
+  // it (Cyclone's default, 100 ms, when unset). A longer interval means less traffic while data
+  // waits for acknowledgements; a reader learns of a lost sample only at the next heartbeat.
+  std::optional<std::chrono::milliseconds> heartbeat_interval;
 };
 
 // Loopback only: lo, unicast discovery to 127.0.0.1, no multicast.

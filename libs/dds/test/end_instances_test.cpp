@@ -45,8 +45,7 @@ class RemoteReader : public ::testing::Test {
   bool peer_says(const std::string& line, std::chrono::milliseconds bound = 20s) {
     return peer.wait_for_line([&](const std::string& l) { return l == line; }, bound);
   }
-  // The peer's next `n` lines (fewer if it stops talking for 20 s). One read may hold several
-  // lines, and wait_for_line drops those after the one it accepts: collect them in one call.
+  // The peer's next `n` lines (fewer if it stops talking for 20 s).
   std::vector<std::string> peer_lines(std::size_t n) {
     std::vector<std::string> lines;
     peer.wait_for_line(

@@ -66,16 +66,25 @@ class ChildProcess {
   }
 
   // Reads stdout line by line until `ready` accepts one (true), the process closes its stdout
-  // or the time is up (false).
+  // or the time is up (false). Lines read after the accepted one wait for the next call.
   bool wait_for_line(const std::function<bool(const std::string&)>& ready,
                      std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    std::string buffer;
-    while (std::chrono::steady_clock::now() < deadline) {
-      pollfd p{stdout_, POLLIN, 0};
+    while (true) {
+      for (auto eol = unread_.find('\n'); eol != std::string::npos; eol = unread_.find('\n')) {
+        const std::string line = unread_.substr(0, eol);
+        unread_.erase(0, eol + 1);
+        if (ready(line)) {
+          return true;
+        }
+      }
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-      if (::poll(&p, 1, static_cast<int>(std::max<std::int64_t>(left.count(), 1))) <= 0) {
+      if (left.count() <= 0) {
+        return false;
+      }
+      pollfd p{stdout_, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
         continue;
       }
       char chunk[256];
@@ -83,16 +92,8 @@ class ChildProcess {
       if (n <= 0) {
         return false;  // the process ended before it was ready
       }
-      buffer.append(chunk, static_cast<std::size_t>(n));
-      for (auto eol = buffer.find('\n'); eol != std::string::npos; eol = buffer.find('\n')) {
-        const std::string line = buffer.substr(0, eol);
-        buffer.erase(0, eol + 1);
-        if (ready(line)) {
-          return true;
-        }
-      }
+      unread_.append(chunk, static_cast<std::size_t>(n));
     }
-    return false;
   }
 
   // Closes stdin (peers that exit on EOF go then), sends SIGTERM if `terminate`, and SIGKILL
@@ -154,6 +155,7 @@ class ChildProcess {
   }
 
   void close_fds() {
+    unread_.clear();
     for (int* fd : {&stdin_, &stdout_}) {
       if (*fd >= 0) {
         ::close(*fd);
@@ -165,6 +167,7 @@ class ChildProcess {
   pid_t pid_ = -1;
   int stdin_ = -1;
   int stdout_ = -1;
+  std::string unread_;  // read from stdout, not yet seen by wait_for_line
 };
 
 }  // namespace sf::testing

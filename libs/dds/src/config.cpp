@@ -58,7 +58,7 @@ Result<std::string> cyclone_config_xml(const NetworkConfig& c) {
       (c.heartbeat_interval && c.heartbeat_interval->count() <= 0)) {
     return Error{Errc::invalid_argument, "lease duration, SPDP and heartbeat intervals must be positive"};
   }
-  // The interval is also the upper bound of Cyclone's adaptive heartbeat rate (attribute max).
+  // max bounds Cyclone's backoff of the interval; equal to the interval, it does not back off.
   const std::string heartbeat =
       c.heartbeat_interval ? fmt::format("<HeartbeatInterval max=\"{0}ms\">{0}ms</HeartbeatInterval>",
                                          c.heartbeat_interval->count())

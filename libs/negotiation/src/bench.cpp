@@ -15,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -192,7 +193,8 @@ class Driver {
       return endpoints_->contractors("OP1") >= options_.contractors &&
              endpoints_->bidders("OP1") >= options_.contractors;
     };
-    if (auto st = pump_until(discovered, 120s); !st) {
+    const auto found = [this] { return endpoints_->contractors("OP1") + endpoints_->bidders("OP1"); };
+    if (auto st = pump_until(discovered, found, 120s); !st) {
       const auto strand = executor_.hold();
       return Error{Errc::timeout, fmt::format("only {} of {} contractors discovered",
                                               endpoints_->contractors("OP1"), options_.contractors)};
@@ -206,53 +208,25 @@ class Driver {
   // as a product starts its next operation and as ddsperf's ping sends its next ping: waking
   // this thread in between would cost every negotiation a thread wake-up.
   Result<std::vector<double>> sequential(std::size_t n) {
-    std::vector<double> latencies;
-    std::size_t ended = 0;
-    std::function<void()> next = [&] {
-      start({[&](const Conversation& c) {
-               latencies.push_back(
-                   std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
-             },
-             [&](const Conversation&) {
-               if (++ended < n) {
-                 next();
-               }
-             },
-             {}});
-    };
-    SF_TRY(run_chain(next, [&] { return ended >= n; }));
-    return latencies;
+    auto chain = std::make_shared<Chain>();
+    chain->n = n;
+    chain->one_at_a_time = true;
+    SF_TRY(run_chain(chain, 1));
+    return std::move(chain->latencies);
   }
 
   // `window` negotiations in flight: each confirmation starts the next; returns negotiations per
   // second.
   Result<double> pipelined(std::size_t n, std::size_t window) {
-    std::size_t started = 0;
-    std::size_t confirmed = 0;
-    std::function<void()> next = [&] {
-      ++started;
-      start({[&](const Conversation&) {
-               ++confirmed;
-               if (started < n) {
-                 next();
-               }
-             },
-             {},
-             {}});
-    };
+    auto chain = std::make_shared<Chain>();
+    chain->n = n;
     const auto t0 = clock_.now();
-    SF_TRY(run_chain(
-        [&] {
-          while (started < std::min(n, window)) {
-            next();
-          }
-        },
-        [&] { return confirmed >= n; }));
+    SF_TRY(run_chain(chain, window));
     return static_cast<double>(n) / std::chrono::duration<double>(clock_.now() - t0).count();
   }
 
   Status drain() {
-    return pump_until([&] { return manager_->active() == 0; });
+    return pump_until([&] { return manager_->active() == 0; }, [&] { return manager_->active(); });
   }
   // This process and the contractor processes.
   [[nodiscard]] std::optional<std::chrono::nanoseconds> cpu_time() const {
@@ -312,46 +286,92 @@ class Driver {
     return {};
   }
 
-  // Starts a negotiation of OP1 (under the strand); a failure to start ends the chain.
-  void start(ConversationEvents events) {
+  // One phase's chain of negotiations (under the strand). The handlers hold it by shared_ptr: a
+  // conversation may outlive its phase (a renegotiation confirms it again during drain()), and
+  // then finds the phase over and does nothing.
+  struct Chain {
+    std::size_t n = 0;
+    bool one_at_a_time = false;  // the next starts on INFORM-DONE, otherwise on CONFIRM
+    std::size_t started = 0;
+    std::set<std::string> confirmed;  // a renegotiated conversation is confirmed again
+    std::size_t ended = 0;
+    std::vector<double> latencies;  // of the first confirmation of each, in microseconds
+    bool over = false;
+    [[nodiscard]] bool complete() const { return (one_at_a_time ? ended : confirmed.size()) >= n; }
+  };
+
+  // Starts the chain's next negotiation of OP1 (under the strand); a failure to start ends it.
+  void start_next(const std::shared_ptr<Chain>& chain) {
+    ++chain->started;
+    ConversationEvents events;
+    events.on_confirmed = [this, chain](const Conversation& c) {
+      if (chain->over || !chain->confirmed.insert(c.id).second) {
+        return;
+      }
+      chain->latencies.push_back(
+          std::chrono::duration<double, std::micro>(c.confirmed_at - c.started_at).count());
+      if (!chain->one_at_a_time && chain->started < chain->n) {
+        start_next(chain);
+      }
+    };
+    events.on_done = [this, chain](const Conversation&) {
+      if (!chain->over && chain->one_at_a_time && ++chain->ended < chain->n) {
+        start_next(chain);
+      }
+    };
     if (auto id = manager_->negotiate({"bench", "OP1", {}, {}}, std::move(events)); !id && !chain_error_) {
       chain_error_ = id.error();
     }
   }
 
-  // Calls first() under the strand, then runs until done() or a negotiation could not start.
-  Status run_chain(const std::function<void()>& first, const std::function<bool()>& done) {
+  // Starts `first` negotiations of the chain, then runs until it is complete or a negotiation
+  // could not start. The chain is over when this returns, however it returns.
+  Status run_chain(const std::shared_ptr<Chain>& chain, std::size_t first) {
     {
       const auto strand = executor_.hold();
       chain_error_.reset();
-      first();
+      while (chain->started < std::min(first, chain->n)) {
+        start_next(chain);
+      }
     }
-    SF_TRY(pump_until([&] { return done() || chain_error_.has_value(); }));
+    const auto st = pump_until([&] { return chain->complete() || chain_error_.has_value(); },
+                               [&] { return chain->confirmed.size() + chain->ended; });
     const auto strand = executor_.hold();
+    chain->over = true;
+    if (!st) {
+      return st;
+    }
     if (chain_error_) {
       return *chain_error_;
     }
     return {};
   }
 
-  // Runs the agents (the manager, in-process contractors) until done(), called under the strand,
-  // holds, or `limit` passes. run_agents sleeps until the earliest timer and, with inline
-  // delivery, is woken by a message only when it moved a timer earlier or made done() true: no
-  // polling, so the driver costs no thread wake-ups of its own.
-  Status pump_until(const std::function<bool()>& done, std::chrono::seconds limit = 60s) {
-    const auto end = clock_.now() + limit;
+  // Runs the agents (the manager, in-process contractors) until done() holds, or until
+  // progress() (a count) has not moved for `limit`; both are called under the strand.
+  // run_agents sleeps until the earliest timer and, with inline delivery, is woken by a message
+  // only when it moved a timer earlier or made done() true: no wake-up per negotiation.
+  Status pump_until(const std::function<bool()>& done, const std::function<std::size_t()>& progress,
+                    std::chrono::seconds limit = 60s) {
+    auto end = clock_.now() + limit;
+    std::optional<std::size_t> seen;
     bool timed_out = false;
     run_agents(executor_, clock_, agents_,
                [&] {
                  if (done()) {
+                   timed_out = false;
                    return true;
+                 }
+                 if (const auto p = progress(); p != seen) {
+                   seen = p;
+                   end = clock_.now() + limit;
                  }
                  timed_out = clock_.now() > end;
                  return timed_out;
                },
                {options_.inline_delivery});
     if (timed_out) {
-      return Error{Errc::timeout, fmt::format("a negotiation did not complete within {} s", limit.count())};
+      return Error{Errc::timeout, fmt::format("no negotiation completed within {} s", limit.count())};
     }
     return {};
   }

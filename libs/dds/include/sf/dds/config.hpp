@@ -40,8 +40,11 @@ struct NetworkConfig {
   // then travel in one datagram.
   bool write_batch = true;
   // Internal/HeartbeatInterval: how often a reliable writer with unacknowledged data announces
-  // it (Cyclone's default, 100 ms, when unset). A longer interval means less traffic while data
-  // waits for acknowledgements; a reader learns of a lost sample only at the next heartbeat.
+  // it, for every writer of the participant including Cyclone's discovery writers. Unset:
+  // Cyclone's default, 100 ms backing off towards 8 s. Set: this interval, without backing off
+  // (it is also the attribute max, which bounds the backoff). A writer also asks for an
+  // acknowledgement with the first write after 4/5 of an interval of quiet, which sends what its
+  // batch holds. Longer means less traffic, and a lost sample is noticed later.
   std::optional<std::chrono::milliseconds> heartbeat_interval;
 };
 

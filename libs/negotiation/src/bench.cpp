@@ -355,22 +355,20 @@ class Driver {
                     std::chrono::seconds limit = 60s) {
     auto end = clock_.now() + limit;
     std::optional<std::size_t> seen;
-    bool timed_out = false;
     run_agents(executor_, clock_, agents_,
                [&] {
                  if (done()) {
-                   timed_out = false;
                    return true;
                  }
                  if (const auto p = progress(); p != seen) {
                    seen = p;
                    end = clock_.now() + limit;
                  }
-                 timed_out = clock_.now() > end;
-                 return timed_out;
+                 return clock_.now() > end;
                },
                {options_.inline_delivery});
-    if (timed_out) {
+    const auto strand = executor_.hold();
+    if (!done()) {
       return Error{Errc::timeout, fmt::format("no negotiation completed within {} s", limit.count())};
     }
     return {};

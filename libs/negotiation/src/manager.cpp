@@ -110,15 +110,30 @@ const Conversation* Manager::find(std::string_view id) const {
   return it == conversations_.end() ? nullptr : &it->second;
 }
 
+// timers_ holds exactly one entry per conversation with a timer: a stale entry would make
+// next_deadline() earlier than any real timer, and the agent loop would wake for nothing (with
+// two-second windows, once per finished negotiation two seconds later).
 void Manager::set_timer(Conversation& c, Clock::time_point at) {
+  clear_timer(c);
   c.timer = at;
   if (at != Clock::time_point::max()) {
     timers_.emplace(at, c.id);
   }
 }
 
+void Manager::clear_timer(Conversation& c) {
+  if (c.timer == Clock::time_point::max()) {
+    return;
+  }
+  auto [first, last] = timers_.equal_range(c.timer);
+  const auto it = std::find_if(first, last, [&](const auto& entry) { return entry.second == c.id; });
+  if (it != last) {
+    timers_.erase(it);
+  }
+  c.timer = Clock::time_point::max();
+}
+
 std::optional<Clock::time_point> Manager::next_deadline() const {
-  // Entries may be stale (a conversation moved on); tick() skips those.
   if (timers_.empty()) {
     return std::nullopt;
   }
@@ -129,8 +144,7 @@ void Manager::tick() {
   const auto now = clock_->now();
   while (!timers_.empty() && timers_.begin()->first <= now) {
     const auto node = timers_.extract(timers_.begin());
-    Conversation* c = lookup(node.mapped());
-    if (c != nullptr && c->timer == node.key()) {
+    if (Conversation* c = lookup(node.mapped()); c != nullptr) {
       c->timer = Clock::time_point::max();
       on_timer(*c);
     }
@@ -266,6 +280,7 @@ void Manager::fail(Conversation& c, std::string reason) {
 
 void Manager::finish(Conversation& c, Phase phase) {
   c.phase = phase;
+  clear_timer(c);
   transport_->close(c.operation, c.id);
   // Out of the map before the callback, which may start new conversations.
   auto node = conversations_.extract(c.id);

@@ -63,6 +63,28 @@ TEST_F(ManagerTest, AnnouncesWithRoundParamsAndBidDeadline) {
   EXPECT_EQ(m.next_deadline(), clock.now() + 100ms);
 }
 
+// The agent loop sleeps until next_deadline(): a timer the conversation left behind would wake it
+// for nothing.
+TEST_F(ManagerTest, NextDeadlineIsTheEarliestLiveTimer) {
+  Manager m{transport, clock, config()};
+  transport.listening = 1;
+  const auto first = start(m);
+  clock.advance(10ms);
+  const auto second = start(m);
+  EXPECT_EQ(m.next_deadline(), clock.now() + 90ms);  // the first's bid deadline
+  m.on_contractor_message(from(first, "M1", 1, bid_at(clock, 10ms)));
+  EXPECT_EQ(m.next_deadline(), clock.now() + 70ms);  // its confirm_by + grace, before the second's
+  m.on_contractor_message(from(first, "M1", 1, Confirm{1}));
+  EXPECT_EQ(m.next_deadline(), clock.now() + 100ms);  // working without a timeout: the second's
+  m.on_contractor_message(from(second, "M1", 1, bid_at(clock, 10ms)));
+  m.on_contractor_message(from(second, "M1", 1, Confirm{1}));
+  EXPECT_EQ(m.next_deadline(), std::nullopt);
+  m.on_contractor_message(from(first, "M1", 1, InformDone{1, "ok"}));
+  m.on_contractor_message(from(second, "M1", 1, InformDone{1, "ok"}));
+  EXPECT_EQ(m.next_deadline(), std::nullopt);
+  EXPECT_EQ(done.size(), 2U);
+}
+
 TEST_F(ManagerTest, RejectsBadRequests) {
   Manager m{transport, clock, config()};
   EXPECT_FALSE(m.negotiate({"P 1", "OP1", {}, {}}).ok());

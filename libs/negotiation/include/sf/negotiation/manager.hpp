@@ -132,6 +132,7 @@ class Manager final : public ManagerInbox {
  private:
   Conversation* lookup(const std::string& id);
   void set_timer(Conversation& c, Clock::time_point at);
+  void clear_timer(Conversation& c);
   void on_timer(Conversation& c);
 
   void start_round(Conversation& c);

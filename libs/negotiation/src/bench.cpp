@@ -272,6 +272,11 @@ class Driver {
            std::to_string(settings_.machining_domain),
            "--conveying-domain",
            std::to_string(settings_.conveying_domain),
+           "--interface",
+           settings_.network.interface,
+           "--lease-ms",
+           std::to_string(
+               std::chrono::duration_cast<std::chrono::milliseconds>(settings_.liveliness_lease).count()),
            "--spin-us",
            std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(options_.spin).count()),
            "--delivery",

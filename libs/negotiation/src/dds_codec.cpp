@@ -32,6 +32,15 @@ std::string get(const char (&src)[N]) {
   return std::string(src, end != nullptr ? static_cast<std::size_t>(end - src) : N);
 }
 
+// A sample's key hash against the string it stands for: a mismatch is a malformed sample (a
+// peer's bug), whose instance could be another conversation's.
+Status check_hash(std::uint64_t hash, std::string_view text, std::string_view what) {
+  if (hash != key_hash(text)) {
+    return Error{Errc::malformed, fmt::format("{} hash {:#x} does not match '{}'", what, hash, text)};
+  }
+  return {};
+}
+
 std::int64_t ns(UtcTime t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
 }
@@ -69,9 +78,20 @@ Result<std::vector<Param>> get_params(const sf_cnp_Params& seq) {
 
 }  // namespace
 
+std::uint64_t key_hash(std::string_view text) {
+  // FNV-1a, 64-bit: offset basis and prime of the FNV specification (draft-eastlake-fnv).
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : text) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
 Result<sf_cnp_Announce> encode(const Announce& m, ParamStorage& storage) {
   sf_cnp_Announce s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
+  s.conversation_hash = key_hash(m.conversation);
   SF_TRY(put(s.product, m.product, "product"));
   SF_TRY(put(s.operation, m.operation, "operation"));
   s.round = m.round;
@@ -81,6 +101,7 @@ Result<sf_cnp_Announce> encode(const Announce& m, ParamStorage& storage) {
 }
 
 Result<Announce> decode(const sf_cnp_Announce& s) {
+  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
   auto params = get_params(s.params);
   if (!params) {
     return params.error();
@@ -92,7 +113,9 @@ Result<Announce> decode(const sf_cnp_Announce& s) {
 Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m) {
   sf_cnp_ContractorMessage s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
+  s.conversation_hash = key_hash(m.conversation);
   SF_TRY(put(s.contractor, m.contractor, "contractor"));
+  s.contractor_hash = key_hash(m.contractor);
   SF_TRY(put(s.operation, m.operation, "operation"));
   s.round = m.round;
   auto& b = s.body;
@@ -130,6 +153,8 @@ Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m) {
 }
 
 Result<ContractorMessage> decode(const sf_cnp_ContractorMessage& s) {
+  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.contractor_hash, get(s.contractor), "contractor"));
   ContractorMessage m{get(s.conversation), get(s.contractor), get(s.operation), s.round, Bid{}};
   const auto& b = s.body;
   switch (b._d) {
@@ -159,6 +184,7 @@ Result<ContractorMessage> decode(const sf_cnp_ContractorMessage& s) {
 Result<sf_cnp_ManagerMessage> encode(const ManagerMessage& m, ParamStorage& storage) {
   sf_cnp_ManagerMessage s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
+  s.conversation_hash = key_hash(m.conversation);
   SF_TRY(put(s.product, m.product, "product"));
   SF_TRY(put(s.operation, m.operation, "operation"));
   SF_TRY(put(s.contractor, m.contractor, "contractor"));
@@ -188,6 +214,7 @@ Result<sf_cnp_ManagerMessage> encode(const ManagerMessage& m, ParamStorage& stor
 }
 
 Result<ManagerMessage> decode(const sf_cnp_ManagerMessage& s) {
+  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
   ManagerMessage m{get(s.conversation), get(s.product), get(s.operation),
                    get(s.contractor),   s.round,        Award{}};
   const auto& b = s.body;
@@ -217,6 +244,7 @@ Result<ManagerMessage> decode(const sf_cnp_ManagerMessage& s) {
 Result<sf_cnp_TransportRequest> encode(const TransportRequest& m) {
   sf_cnp_TransportRequest s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
+  s.conversation_hash = key_hash(m.conversation);
   SF_TRY(put(s.product, m.product, "product"));
   SF_TRY(put(s.from, m.from, "from"));
   SF_TRY(put(s.to, m.to, "to"));
@@ -225,13 +253,16 @@ Result<sf_cnp_TransportRequest> encode(const TransportRequest& m) {
 }
 
 Result<TransportRequest> decode(const sf_cnp_TransportRequest& s) {
+  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
   return TransportRequest{get(s.conversation), get(s.product), get(s.from), get(s.to), utc(s.earliest_start)};
 }
 
 Result<sf_cnp_TransportInform> encode(const TransportInform& m) {
   sf_cnp_TransportInform s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
+  s.conversation_hash = key_hash(m.conversation);
   SF_TRY(put(s.conveyor, m.conveyor, "conveyor"));
+  s.conveyor_hash = key_hash(m.conveyor);
   SF_TRY(put(s.from, m.from, "from"));
   SF_TRY(put(s.to, m.to, "to"));
   s.transit_time = m.transit_time.count();
@@ -240,6 +271,8 @@ Result<sf_cnp_TransportInform> encode(const TransportInform& m) {
 }
 
 Result<TransportInform> decode(const sf_cnp_TransportInform& s) {
+  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.conveyor_hash, get(s.conveyor), "conveyor"));
   return TransportInform{
       get(s.conversation), get(s.conveyor), get(s.from), get(s.to), std::chrono::nanoseconds{s.transit_time},
       utc(s.eta)};
@@ -247,33 +280,33 @@ Result<TransportInform> decode(const sf_cnp_TransportInform& s) {
 
 sf_cnp_Announce announce_key(const std::string& conversation) {
   sf_cnp_Announce s{};
-  (void)put(s.conversation, conversation, "conversation");
+  s.conversation_hash = key_hash(conversation);
   return s;
 }
 
 sf_cnp_ManagerMessage manager_key(const std::string& conversation) {
   sf_cnp_ManagerMessage s{};
-  (void)put(s.conversation, conversation, "conversation");
+  s.conversation_hash = key_hash(conversation);
   return s;
 }
 
 sf_cnp_ContractorMessage contractor_key(const std::string& conversation, const std::string& contractor) {
   sf_cnp_ContractorMessage s{};
-  (void)put(s.conversation, conversation, "conversation");
-  (void)put(s.contractor, contractor, "contractor");
+  s.conversation_hash = key_hash(conversation);
+  s.contractor_hash = key_hash(contractor);
   return s;
 }
 
 sf_cnp_TransportRequest request_key(const std::string& conversation) {
   sf_cnp_TransportRequest s{};
-  (void)put(s.conversation, conversation, "conversation");
+  s.conversation_hash = key_hash(conversation);
   return s;
 }
 
 sf_cnp_TransportInform inform_key(const std::string& conversation, const std::string& conveyor) {
   sf_cnp_TransportInform s{};
-  (void)put(s.conversation, conversation, "conversation");
-  (void)put(s.conveyor, conveyor, "conveyor");
+  s.conversation_hash = key_hash(conversation);
+  s.conveyor_hash = key_hash(conveyor);
   return s;
 }
 

@@ -2,9 +2,11 @@
 // idl/cnp_messages.idl. Encoding checks every bound (a too-long name is an
 // error, not a truncation); decoding never trusts a sample: strings are read
 // up to their array bound, sequence lengths are checked, an unknown union
-// discriminant is an error.
+// discriminant is an error, and so is a key hash that does not match its string.
 #pragma once
 
+#include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "cnp_messages.h"
@@ -27,6 +29,9 @@ Result<ContractorMessage> decode(const sf_cnp_ContractorMessage& s);
 Result<ManagerMessage> decode(const sf_cnp_ManagerMessage& s);
 Result<TransportRequest> decode(const sf_cnp_TransportRequest& s);
 Result<TransportInform> decode(const sf_cnp_TransportInform& s);
+
+// The IDL's KeyHash: FNV-1a 64 of the bytes of a conversation id, contractor or conveyor name.
+std::uint64_t key_hash(std::string_view text);
 
 // Key-only samples (for dispose / unregister).
 sf_cnp_Announce announce_key(const std::string& conversation);

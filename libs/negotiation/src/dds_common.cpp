@@ -27,6 +27,24 @@ Result<dds::Participant> join(const DdsSettings& s, dds::DomainId domain, const 
   return dds::Participant::create(domain, {*xml, name, s.partition});
 }
 
+void OpenConversations::opened(std::uint64_t hash, const std::string& conversation, const log::Logger& log) {
+  auto [it, added] = open_.try_emplace(hash, conversation);
+  if (!added && it->second != conversation) {
+    // Two conversations alive with one key hash share an instance (see the IDL): the newer one
+    // now owns it, and the older one's end will not be reported.
+    log->warn("{}: conversations {} and {} share instance key {:#x}", topic_, it->second, conversation, hash);
+    it->second = conversation;
+  }
+}
+
+std::optional<std::string> OpenConversations::closed(std::uint64_t hash) {
+  auto node = open_.extract(hash);
+  if (node.empty()) {
+    return std::nullopt;
+  }
+  return std::move(node.mapped());
+}
+
 void log_status(const log::Logger& log, const Status& st, std::string_view what) {
   if (!st) {
     log->debug("{}: {}", what, st.error().describe());

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "cnp_messages.h"
@@ -34,6 +35,60 @@ dds::Qos reader_qos(const DdsSettings& s);
 Result<dds::Participant> join(const DdsSettings& s, dds::DomainId domain, const std::string& name);
 // Failures to dispose are not the caller's problem: logged at debug level.
 void log_status(const log::Logger& log, const Status& st, std::string_view what);
+
+// The conversations whose instances a reader holds, by key hash. An instance's end reaches the
+// reader as a key-only sample, which carries the hash but not the conversation id (the IDL keys
+// on hashes): the id is remembered from the instance's data until then. Entries live as long as
+// their instances. Touched under the executor's strand only.
+class OpenConversations {
+ public:
+  explicit OpenConversations(std::string topic) : topic_(std::move(topic)) {}
+  [[nodiscard]] const std::string& topic() const { return topic_; }
+  // A valid sample of an alive instance.
+  void opened(std::uint64_t hash, const std::string& conversation, const log::Logger& log);
+  // The instance ended: its conversation, if this reader saw it alive.
+  std::optional<std::string> closed(std::uint64_t hash);
+  [[nodiscard]] std::size_t size() const { return open_.size(); }
+
+ private:
+  std::string topic_;
+  std::unordered_map<std::uint64_t, std::string> open_;
+};
+
+// What one sample of a conversation-keyed reader says: the message (valid data), and the
+// conversation that ended when the instance is no longer alive (disposed, or its writers gone).
+template <typename Message>
+struct ConversationSample {
+  std::optional<Message> message;
+  bool alive = false;
+  std::optional<std::string> ended;
+};
+
+// Decodes a sample (a malformed one is dropped with a log line) and keeps `open` up to date.
+template <typename Message, typename Sample>
+ConversationSample<Message> read_conversation(OpenConversations& open, const Sample& sample,
+                                              const dds::SampleInfo& info, const log::Logger& log) {
+  ConversationSample<Message> out;
+  out.alive = info.instance_state == dds::InstanceState::Alive;
+  if (info.valid_data) {
+    auto m = codec::decode(sample);
+    if (!m) {
+      log->warn("{}: dropped a malformed sample: {}", open.topic(), m.error().describe());
+      return out;
+    }
+    if (out.alive) {
+      open.opened(sample.conversation_hash, m->conversation, log);
+    }
+    out.message = std::move(*m);
+  }
+  if (!out.alive) {
+    out.ended = open.closed(sample.conversation_hash);
+    if (!out.ended && out.message) {
+      out.ended = out.message->conversation;
+    }
+  }
+  return out;
+}
 
 // Conversation ends leave in batches. The end of a conversation's instance (an unregister, which
 // carries the dispose) is a message to every reader of the topic; sent alone, it costs every

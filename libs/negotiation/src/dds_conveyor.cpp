@@ -26,16 +26,18 @@ struct ConveyorEndpoints::Impl {
   Opt<dds::Topic<sf_cnp_TransportInform>> inform_topic;
   Opt<dds::Writer<sf_cnp_TransportInform>> inform;
   Opt<dds::Reader<sf_cnp_TransportRequest>> request;
+  detail::OpenConversations requests{std::string{kRequestTopic}};
 
   void on_request(const sf_cnp_TransportRequest& sample, const dds::SampleInfo& info) {
-    auto m = codec::decode(sample);
-    if (!m || inbox == nullptr) {
+    if (inbox == nullptr) {
       return;
     }
-    if (info.valid_data && info.instance_state == dds::InstanceState::Alive) {
-      inbox->on_request(*m);
-    } else if (info.instance_state != dds::InstanceState::Alive) {
-      inbox->on_request_closed(m->conversation);
+    auto s = detail::read_conversation<TransportRequest>(requests, sample, info, log);
+    if (s.message && s.alive) {
+      inbox->on_request(*s.message);
+    }
+    if (s.ended) {
+      inbox->on_request_closed(*s.ended);
     }
   }
 };

@@ -26,6 +26,8 @@ struct MachineOp {
   Opt<detail::EndingWriter<sf_cnp_ContractorMessage>> bid;
   Opt<dds::Reader<sf_cnp_Announce>> announce;
   Opt<dds::Reader<sf_cnp_ManagerMessage>> award;
+  Opt<detail::OpenConversations> announces;
+  Opt<detail::OpenConversations> awards;
 };
 
 struct MachineEndpoints::Impl {
@@ -46,6 +48,8 @@ Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
   SF_TRY(validate_operation(name_of_op));
   auto op = std::make_unique<MachineOp>();
   op->operation = name_of_op;
+  op->announces.emplace(announce_topic(name_of_op));
+  op->awards.emplace(award_topic(name_of_op));
   MachineOp* raw = op.get();
   const auto& p = *participant;
   SF_EMPLACE(op->announce_topic, dds::Topic<sf_cnp_Announce>::create(p, announce_topic(name_of_op)));
@@ -69,37 +73,29 @@ Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
 
 void MachineEndpoints::Impl::on_announce(MachineOp& op, const sf_cnp_Announce& sample,
                                          const dds::SampleInfo& info) {
-  auto m = codec::decode(sample);
-  if (!m) {
-    log->warn("{}: dropped a malformed sample: {}", announce_topic(op.operation), m.error().describe());
-    return;
-  }
   if (inbox == nullptr) {
     return;
   }
-  // A disposed (or orphaned) instance is a conversation that ended.
-  if (info.valid_data && info.instance_state == dds::InstanceState::Alive) {
-    inbox->on_announce(*m);
-  } else if (info.instance_state != dds::InstanceState::Alive) {
-    inbox->on_conversation_closed(op.operation, m->conversation);
+  auto s = detail::read_conversation<Announce>(*op.announces, sample, info, log);
+  if (s.message && s.alive) {
+    inbox->on_announce(*s.message);
+  }
+  if (s.ended) {
+    inbox->on_conversation_closed(op.operation, *s.ended);
   }
 }
 
 void MachineEndpoints::Impl::on_award(MachineOp& op, const sf_cnp_ManagerMessage& sample,
                                       const dds::SampleInfo& info) {
-  auto m = codec::decode(sample);
-  if (!m) {
-    log->warn("{}: dropped a malformed sample: {}", award_topic(op.operation), m.error().describe());
-    return;
-  }
   if (inbox == nullptr) {
     return;
   }
-  if (info.valid_data) {
-    inbox->on_manager_message(*m);
+  auto s = detail::read_conversation<ManagerMessage>(*op.awards, sample, info, log);
+  if (s.message) {
+    inbox->on_manager_message(*s.message);
   }
-  if (info.instance_state != dds::InstanceState::Alive) {
-    inbox->on_conversation_closed(op.operation, m->conversation);
+  if (s.ended) {
+    inbox->on_conversation_closed(op.operation, *s.ended);
   }
 }
 

@@ -1,5 +1,6 @@
 // The IDL codec: every message kind survives a round trip; bounds are
-// enforced on encoding; malformed samples are refused on decoding.
+// enforced on encoding; malformed samples are refused on decoding; instance
+// keys are the FNV-1a hashes of the strings they stand for.
 #include "dds_codec.hpp"
 
 #include <gtest/gtest.h>
@@ -115,6 +116,53 @@ TEST(Codec, DecodingRefusesMalformedSamples) {
   auto r = codec::decode(t);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->from, std::string(sizeof(t.from), 'z'));
+}
+
+// Test vectors of the FNV specification (FNV-1a, 64 bit).
+TEST(Codec, KeyHashIsFnv1a64) {
+  EXPECT_EQ(codec::key_hash(""), 0xcbf29ce484222325ULL);
+  EXPECT_EQ(codec::key_hash("a"), 0xaf63dc4c8601ec8cULL);
+  EXPECT_EQ(codec::key_hash("foobar"), 0x85944171f73967e8ULL);
+}
+
+TEST(Codec, KeysAreTheHashesOfTheirStrings) {
+  codec::ParamStorage storage;
+  const auto a = *codec::encode(Announce{"P1/OP1/ab.1", "P1", "OP1", 1, {}, kT}, storage);
+  EXPECT_EQ(a.conversation_hash, codec::key_hash("P1/OP1/ab.1"));
+  EXPECT_EQ(codec::announce_key("P1/OP1/ab.1").conversation_hash, a.conversation_hash);
+  const auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  EXPECT_EQ(b.conversation_hash, codec::key_hash("c"));
+  EXPECT_EQ(b.contractor_hash, codec::key_hash("M1"));
+  const auto k = codec::contractor_key("c", "M1");
+  EXPECT_EQ(std::make_pair(k.conversation_hash, k.contractor_hash),
+            std::make_pair(b.conversation_hash, b.contractor_hash));
+  const auto i = *codec::encode(TransportInform{"r", "C1", "A", "B", 1s, kT});
+  EXPECT_EQ(i.conveyor_hash, codec::key_hash("C1"));
+  EXPECT_EQ(codec::inform_key("r", "C1").conveyor_hash, i.conveyor_hash);
+  EXPECT_EQ(codec::manager_key("x").conversation_hash, codec::key_hash("x"));
+  EXPECT_EQ(codec::request_key("x").conversation_hash, codec::key_hash("x"));
+}
+
+// A hash that is not its string's would put the sample in another conversation's instance.
+TEST(Codec, DecodingRefusesAKeyHashThatIsNotItsStrings) {
+  auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  b.contractor_hash ^= 1;
+  auto m = codec::decode(b);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.error().code, Errc::malformed);
+  codec::ParamStorage storage;
+  auto a = *codec::encode(Announce{"c", "P", "OP1", 1, {}, kT}, storage);
+  a.conversation_hash = codec::key_hash("d");
+  EXPECT_FALSE(codec::decode(a).ok());
+  auto w = *codec::encode(ManagerMessage{"c", "P", "OP1", "M1", 1, Award{1, kT}}, storage);
+  w.conversation_hash = 0;
+  EXPECT_FALSE(codec::decode(w).ok());
+  auto r = *codec::encode(TransportRequest{"r", "P1", "A", "B", kT});
+  r.conversation_hash = 0;
+  EXPECT_FALSE(codec::decode(r).ok());
+  auto i = *codec::encode(TransportInform{"r", "C1", "A", "B", 1s, kT});
+  i.conveyor_hash = 0;
+  EXPECT_FALSE(codec::decode(i).ok());
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <map>
 #include <set>
 #include <string>
 
@@ -39,19 +40,22 @@ class EndingWriterTest : public ::testing::Test {
 
   void bid(const std::string& conversation) {
     const ContractorMessage m{conversation, "M1", "OP1", 1, Bid{}};
+    names[codec::key_hash(conversation)] = conversation;
     ASSERT_TRUE(writer->write(codec::encode(m).value()).ok());
   }
   Status end(const std::string& conversation) {
     return writer->end_later(codec::contractor_key(conversation, "M1"));
   }
   // The conversations whose instance the reader saw disposed since the last call (an instance
-  // whose writer went without disposing it is NoWriters, not counted).
+  // whose writer went without disposing it is NoWriters, not counted). An end carries the key
+  // hash only: the name is the one bid() wrote with it.
   std::set<std::string> ended() {
     std::set<std::string> out;
     EXPECT_TRUE(reader
                     ->take([&](const sf_cnp_ContractorMessage& s, const dds::SampleInfo& info) {
                       if (info.instance_state == dds::InstanceState::Disposed) {
-                        out.insert(s.conversation);
+                        const auto it = names.find(s.conversation_hash);
+                        out.insert(it != names.end() ? it->second : "?");
                       }
                     })
                     .ok());
@@ -60,6 +64,7 @@ class EndingWriterTest : public ::testing::Test {
 
   DdsSettings settings;
   ManualClock clock;
+  std::map<std::uint64_t, std::string> names;  // by key hash
   std::optional<dds::Participant> participant;
   std::optional<dds::Topic<sf_cnp_ContractorMessage>> topic;
   std::optional<dds::Reader<sf_cnp_ContractorMessage>> reader;

@@ -125,5 +125,21 @@ TEST_F(DdsEndpointsTest, ASampleWhoseKeyHashIsNotItsConversationsIsDropped) {
   EXPECT_EQ(machine_inbox.announced, std::vector<std::string>{"P9/OP1/x.3"});
 }
 
+// A reader's memory of conversations lasts as long as their instances.
+TEST(OpenConversations, RemembersAnInstanceUntilItEnds) {
+  const auto log = log::get("negotiation");
+  detail::OpenConversations open{"OP1_ANNOUNCE"};
+  open.opened(1, "a", log);
+  open.opened(1, "a", log);  // a re-announcement: the same instance
+  open.opened(2, "b", log);
+  EXPECT_EQ(open.size(), 2U);
+  EXPECT_EQ(open.closed(1), "a");
+  EXPECT_EQ(open.closed(1), std::nullopt);  // ended already, or never seen alive
+  EXPECT_EQ(open.size(), 1U);
+  open.opened(2, "c", log);  // two live conversations with one hash: the newer owns the instance
+  EXPECT_EQ(open.closed(2), "c");
+  EXPECT_EQ(open.size(), 0U);
+}
+
 }  // namespace
 }  // namespace sf::negotiation

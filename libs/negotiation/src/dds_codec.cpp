@@ -27,9 +27,14 @@ Status put(char (&dst)[N], std::string_view src, std::string_view what) {
 
 // Up to the first NUL or the array bound, whichever comes first.
 template <std::size_t N>
-std::string get(const char (&src)[N]) {
+std::string_view view(const char (&src)[N]) {
   const auto* end = static_cast<const char*>(std::memchr(src, '\0', N));
-  return std::string(src, end != nullptr ? static_cast<std::size_t>(end - src) : N);
+  return {src, end != nullptr ? static_cast<std::size_t>(end - src) : N};
+}
+
+template <std::size_t N>
+std::string get(const char (&src)[N]) {
+  return std::string{view(src)};
 }
 
 // A sample's key hash against the string it stands for: a mismatch is a malformed sample (a
@@ -101,7 +106,7 @@ Result<sf_cnp_Announce> encode(const Announce& m, ParamStorage& storage) {
 }
 
 Result<Announce> decode(const sf_cnp_Announce& s) {
-  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
   auto params = get_params(s.params);
   if (!params) {
     return params.error();
@@ -153,8 +158,8 @@ Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m) {
 }
 
 Result<ContractorMessage> decode(const sf_cnp_ContractorMessage& s) {
-  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
-  SF_TRY(check_hash(s.contractor_hash, get(s.contractor), "contractor"));
+  SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.contractor_hash, view(s.contractor), "contractor"));
   ContractorMessage m{get(s.conversation), get(s.contractor), get(s.operation), s.round, Bid{}};
   const auto& b = s.body;
   switch (b._d) {
@@ -214,7 +219,7 @@ Result<sf_cnp_ManagerMessage> encode(const ManagerMessage& m, ParamStorage& stor
 }
 
 Result<ManagerMessage> decode(const sf_cnp_ManagerMessage& s) {
-  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
   ManagerMessage m{get(s.conversation), get(s.product), get(s.operation),
                    get(s.contractor),   s.round,        Award{}};
   const auto& b = s.body;
@@ -253,7 +258,7 @@ Result<sf_cnp_TransportRequest> encode(const TransportRequest& m) {
 }
 
 Result<TransportRequest> decode(const sf_cnp_TransportRequest& s) {
-  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
   return TransportRequest{get(s.conversation), get(s.product), get(s.from), get(s.to), utc(s.earliest_start)};
 }
 
@@ -271,8 +276,8 @@ Result<sf_cnp_TransportInform> encode(const TransportInform& m) {
 }
 
 Result<TransportInform> decode(const sf_cnp_TransportInform& s) {
-  SF_TRY(check_hash(s.conversation_hash, get(s.conversation), "conversation"));
-  SF_TRY(check_hash(s.conveyor_hash, get(s.conveyor), "conveyor"));
+  SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
+  SF_TRY(check_hash(s.conveyor_hash, view(s.conveyor), "conveyor"));
   return TransportInform{
       get(s.conversation), get(s.conveyor), get(s.from), get(s.to), std::chrono::nanoseconds{s.transit_time},
       utc(s.eta)};

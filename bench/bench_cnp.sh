@@ -6,23 +6,29 @@
 # run, as a ratio, and the CPU time of all processes per negotiation next to
 # ddsperf's per round trip. In-process contractors: bench_cnp.
 #
+# The contractor processes and ddsperf's pongs run under SCHED_BATCH by default, so that the
+# contractors a fan-out wakes do not preempt the product (or ping) in the middle of it; `normal`
+# lets them (`smartfactory cnp bench --help`, docs/performance.md).
+#
 # Usage: bench/bench_cnp.sh [BUILD_DIR] [NEGOTIATIONS] [SPIN_US] [DELIVERY: inline|queued]
+#                           [CONTRACTOR_SCHED: batch|normal]
 set -euo pipefail
 build=${1:-build/release}
 negotiations=${2:-500}
 spin=${3:-0}
 delivery=${4:-inline}
+sched=${5:-batch}
 sf="$build/apps/smartfactory/smartfactory"
 [ -x "$sf" ] || { echo "bench_cnp.sh: $sf not built" >&2; exit 1; }
 command -v ddsperf >/dev/null || echo "bench_cnp.sh: ddsperf not found (cyclonedds-tools); no ratio" >&2
 
-printf "contractor processes, %s negotiations per phase, executor spin %s us, %s delivery\n" "$negotiations" "$spin" \
-  "$delivery"
+printf "contractor processes (%s scheduling), %s negotiations per phase, executor spin %s us, %s delivery\n" \
+  "$sched" "$negotiations" "$spin" "$delivery"
 printf "%11s %9s %9s %9s %15s %13s %12s %8s %12s %10s %12s %10s\n" contractors "p50 us" "p99 us" "mean us" \
   "one-at-a-time/s" "8-in-flight/s" "ddsperf p50" "ratio" "ddsperf mean" "mean ratio" "CPU us/neg" "CPU ratio"
 for n in 1 4 16 64; do
   json=$(SF_LOG=warn "$sf" cnp bench --contractors "$n" --negotiations "$negotiations" --processes \
-           --spin-us "$spin" --delivery "$delivery" --json 2>/dev/null) || { echo "$n contractors: failed"; continue; }
+           --spin-us "$spin" --delivery "$delivery" --contractor-sched "$sched" --json 2>/dev/null) || { echo "$n contractors: failed"; continue; }
   python3 - "$json" <<'PY'
 import json, sys
 d = json.loads(sys.argv[1])

@@ -12,7 +12,7 @@ import tempfile
 import time
 import uuid
 
-from sftest import Background, binary, check, fail, run
+from sftest import Background, binary, check, fail, run, wait_for
 
 PARTITION = f"cnp-it-{uuid.uuid4().hex[:8]}"
 COMMON = ["--partition", PARTITION, "--json"]
@@ -140,6 +140,7 @@ def main():
                 at = award["contractor"]
     check(total == 3 * 3 + 2 * 2, f"{total} negotiations checked")
     check_exit_with_parent(sf, tmp)
+    check_bench_processes(sf, tmp)
     shutil.rmtree(tmp, ignore_errors=True)  # kept only when a check failed
 
 
@@ -168,6 +169,58 @@ def check_exit_with_parent(sf, tmp):
         os.kill(pid, 9)
         fail(f"machine {pid} still runs after its parent exited")
     check(True, "an agent with --exit-with-parent stops when its parent exits")
+
+
+def children_of(pid):
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    if int(f.read().rsplit(")", 1)[1].split()[1]) == pid:
+                        out.append(int(entry))
+            except (OSError, ValueError, IndexError):
+                pass
+    return out
+
+
+def scheduling_policy(pid):
+    """The policy number of /proc/PID/sched (0 SCHED_OTHER, 3 SCHED_BATCH); None once it exited."""
+    try:
+        with open(f"/proc/{pid}/sched") as f:
+            for line in f:
+                if line.startswith("policy"):
+                    return int(line.split(":")[1])
+    except OSError:
+        return None
+    return None
+
+
+def check_bench_processes(sf, tmp):
+    """`cnp bench --processes` measures every negotiation it was asked for with each contractor in
+    its own process, and those processes run under SCHED_BATCH (the default --contractor-sched)."""
+    log = os.path.join(tmp, "bench.log")
+    n = 3
+    bench = Background([sf, "cnp", "bench", "--contractors", str(n), "--negotiations", "200", "--processes",
+                        "--no-ddsperf", "--json"], log=log)
+    wait_for(lambda: len(children_of(bench.proc.pid)) >= n or not bench.alive(), 60,
+             "the benchmark's contractor processes")
+    policies = [scheduling_policy(pid) for pid in children_of(bench.proc.pid)]
+    check(len(policies) == n and all(p == 3 for p in policies),
+          f"the {n} contractor processes run under SCHED_BATCH (policies {policies})")
+    try:
+        bench.proc.wait(timeout=180)
+    except Exception:
+        bench.stop()
+        fail("cnp bench --processes did not finish within 180 s")
+    rc = bench.stop()
+    lines = [l for l in bench.output().splitlines() if l.startswith("{")]
+    check(rc == 0 and len(lines) == 1, f"cnp bench exited {rc} with one JSON result")
+    result = json.loads(lines[0])
+    check(result["processes"] and result["contractors"] == n and result["contractor_sched"] == "batch",
+          f"the result says {n} contractor processes under batch scheduling: {result}")
+    check(result["latency_us"]["samples"] == 200 and result["failed"] == 0 and result["sequential_per_s"] > 0
+          and result["pipelined_per_s"] > 0, "every negotiation of both phases was measured, none failed")
 
 
 if __name__ == "__main__":

@@ -537,6 +537,7 @@ struct BenchCliOptions {
   bool processes = false;
   bool no_ddsperf = false;
   unsigned ddsperf_s = 4;
+  std::string contractor_sched = "batch";
 };
 
 std::string self_binary() {
@@ -549,6 +550,7 @@ json bench_json(const cnp::BenchResult& r) {
   json j{{"contractors", r.contractors},
          {"negotiations", r.negotiations},
          {"processes", r.processes},
+         {"contractor_sched", cnp::to_string(r.contractor_scheduling)},
          {"latency_us",
           {{"p50", r.latency.p50_us},
            {"p90", r.latency.p90_us},
@@ -584,6 +586,8 @@ int run_bench_cmd(const BenchCliOptions& o) {
   b.ddsperf_duration = std::chrono::seconds{o.ddsperf_s};
   b.spin = std::chrono::microseconds{o.dds.spin_us};
   b.inline_delivery = run_options(o.dds).inline_delivery;
+  b.contractor_scheduling =
+      o.contractor_sched == "batch" ? cnp::SchedulingPolicy::batch : cnp::SchedulingPolicy::normal;
   auto r = cnp::run_bench(b, [](std::string_view line) { std::cerr << "cnp bench: " << line << "\n"; });
   if (!r) {
     std::cerr << "cnp bench: " << r.error().describe() << "\n";
@@ -703,6 +707,13 @@ void register_cnp(CLI::App& app, CommandResult& result) {
                 "Run each contractor as its own process (smartfactory agent machine)");
   cmd->add_flag("--no-ddsperf", o->no_ddsperf, "Skip the ddsperf comparison");
   cmd->add_option("--ddsperf-seconds", o->ddsperf_s, "How long ddsperf ping runs")->capture_default_str();
+  cmd->add_option("--contractor-sched", o->contractor_sched,
+                  "Linux scheduling policy of the contractor and ddsperf pong processes (never of the "
+                  "product or ping): 'batch' (SCHED_BATCH) keeps a contractor woken by the product's "
+                  "fan-out from preempting the product in the middle of it, as on a host with a core per "
+                  "machine; 'normal' (SCHED_OTHER) lets it")
+      ->check(CLI::IsMember({"batch", "normal"}))
+      ->capture_default_str();
   add_dds_options(*cmd, o->dds);
   cmd->callback([o, &result] { result.exit_code = run_bench_cmd(*o); });
 

@@ -1,11 +1,6 @@
 #include "sf/negotiation/bench.hpp"
 
 #include <dirent.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,10 +16,9 @@
 
 #include <fmt/format.h>
 
+#include "bench_child.hpp"
 #include "sf/dds/config.hpp"
 #include "sf/negotiation/agents.hpp"
-
-extern char** environ;  // NOLINT: POSIX
 
 namespace sf::negotiation {
 namespace {
@@ -33,81 +27,7 @@ using namespace std::chrono_literals;
 
 constexpr dds::DomainId kDdsperfDomain = 231;
 
-// A process this benchmark started; stopped (TERM, then KILL) when destroyed.
-class Child {
- public:
-  static Result<Child> spawn(const std::vector<std::string>& args, const std::vector<std::string>& extra_env,
-                             const std::string& output) {
-    std::vector<char*> argv;
-    for (const auto& a : args) {
-      argv.push_back(const_cast<char*>(a.c_str()));  // NOLINT: posix_spawn's signature
-    }
-    argv.push_back(nullptr);
-    std::vector<std::string> env_store = extra_env;
-    for (char** e = environ; *e != nullptr; ++e) {
-      env_store.emplace_back(*e);
-    }
-    std::vector<char*> envp;
-    for (auto& e : env_store) {
-      envp.push_back(e.data());
-    }
-    envp.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    pid_t pid = 0;
-    const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-      return Error{Errc::io, fmt::format("cannot start {}: {}", args[0], std::strerror(rc))};
-    }
-    return Child{pid};
-  }
-
-  Child(Child&& o) noexcept : pid_(std::exchange(o.pid_, 0)), cpu_at_exit_(o.cpu_at_exit_) {}
-  Child& operator=(Child&&) = delete;
-  ~Child() { stop(); }
-
-  // Waits for the process to exit by itself (up to `bound`); true if it did.
-  bool wait(std::chrono::nanoseconds bound) {
-    const auto end = std::chrono::steady_clock::now() + bound;
-    while (pid_ > 0 && std::chrono::steady_clock::now() < end) {
-      rusage usage{};
-      if (wait4(pid_, nullptr, WNOHANG, &usage) == pid_) {
-        pid_ = 0;
-        cpu_at_exit_ = to_ns(usage.ru_utime) + to_ns(usage.ru_stime);
-        return true;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    return pid_ == 0;
-  }
-
-  [[nodiscard]] pid_t pid() const { return pid_; }
-  // The CPU time of a process that exited in wait().
-  [[nodiscard]] std::optional<std::chrono::nanoseconds> cpu_at_exit() const { return cpu_at_exit_; }
-
-  void stop() {
-    if (pid_ <= 0) {
-      return;
-    }
-    kill(pid_, SIGTERM);
-    if (!wait(5s)) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-      pid_ = 0;
-    }
-  }
-
- private:
-  explicit Child(pid_t pid) : pid_(pid) {}
-  static std::chrono::nanoseconds to_ns(const timeval& t) {
-    return std::chrono::seconds{t.tv_sec} + std::chrono::microseconds{t.tv_usec};
-  }
-  pid_t pid_;
-  std::optional<std::chrono::nanoseconds> cpu_at_exit_;
-};
+using Child = detail::BenchChild;
 
 // The CPU time of all `pids`; nullopt if one cannot be read.
 std::optional<std::chrono::nanoseconds> cpu_time_of(const std::vector<pid_t>& pids) {
@@ -282,7 +202,7 @@ class Driver {
            "--delivery",
            options_.inline_delivery ? "inline" : "queued",
            "--exit-with-parent"},
-          {}, "/dev/null");
+          {}, "/dev/null", options_.contractor_scheduling);
       if (!child) {
         return child.error();
       }
@@ -394,6 +314,10 @@ class Driver {
 
 }  // namespace
 
+std::string_view to_string(SchedulingPolicy policy) {
+  return policy == SchedulingPolicy::batch ? "batch" : "normal";
+}
+
 LatencyStats latency_stats(std::vector<double> samples) {
   LatencyStats s;
   if (samples.empty()) {
@@ -429,7 +353,7 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   for (std::size_t i = 0; i < pongs; ++i) {
     auto pong = Child::spawn({options.ddsperf_binary, "-i", domain, "-D",
                               std::to_string(secs + 40 + static_cast<long>(pongs)), "pong"},
-                             env, "/dev/null");
+                             env, "/dev/null", options.contractor_scheduling);
     if (!pong) {
       return pong.error();
     }
@@ -560,6 +484,7 @@ Result<BenchResult> run_bench(const BenchOptions& options,
   r.contractors = options.contractors;
   r.negotiations = options.negotiations;
   r.processes = options.processes;
+  r.contractor_scheduling = options.contractor_scheduling;
   r.window = options.window;
   DdsSettings settings = options.dds;
   if (settings.partition == DdsSettings{}.partition) {

@@ -19,6 +19,16 @@
 
 namespace sf::negotiation {
 
+// The Linux scheduling policy of the contractor processes and of ddsperf's pongs (never of the
+// product or of ddsperf's ping). On a host with fewer cores than processes, a contractor woken by
+// the manager's fan-out preempts the manager in the middle of it (CFS wake-up preemption), so the
+// fan-out's time includes the work of every contractor woken so far; in the factory each machine
+// runs on its own controller. SCHED_BATCH processes do not preempt on wake-up (sched(7)): they
+// run on another core or when the manager's thread blocks. Applied alike to both sides.
+enum class SchedulingPolicy { normal, batch };
+// "normal", "batch"
+std::string_view to_string(SchedulingPolicy policy);
+
 struct BenchOptions {
   std::size_t contractors = 4;
   std::size_t negotiations = 1000;  // per phase (latency, throughput)
@@ -28,6 +38,7 @@ struct BenchOptions {
   std::size_t warmup = 20;
   std::chrono::nanoseconds spin{0};  // executor spin before blocking (here and in contractor processes)
   bool inline_delivery = true;       // handle messages on the DDS thread (RunOptions), here and in processes
+  SchedulingPolicy contractor_scheduling = SchedulingPolicy::batch;
   DdsSettings dds;
   bool ddsperf = true;
   std::string ddsperf_binary = "ddsperf";
@@ -47,6 +58,7 @@ struct BenchResult {
   std::size_t contractors = 0;
   std::size_t negotiations = 0;
   bool processes = false;
+  SchedulingPolicy contractor_scheduling = SchedulingPolicy::normal;  // of the processes, if any
   std::size_t window = 0;
   LatencyStats latency;         // one negotiation at a time
   double sequential_per_s = 0;  // one at a time

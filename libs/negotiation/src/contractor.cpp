@@ -178,6 +178,7 @@ void Contractor::accept(const ManagerMessage& m, std::uint32_t award_id, const S
     events_.on_confirmed(jobs_.back());
   }
   start_head(clock_->now());
+  finish_due(clock_->now());
 }
 
 void Contractor::refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason) {
@@ -245,12 +246,16 @@ void Contractor::finish_head() {
   start_head(*job.started_at + job.duration);
 }
 
-void Contractor::tick() {
-  const auto now = clock_->now();
+void Contractor::finish_due(Clock::time_point now) {
   while (!jobs_.empty() && jobs_.front().started_at &&
          *jobs_.front().started_at + jobs_.front().duration <= now) {
     finish_head();
   }
+}
+
+void Contractor::tick() {
+  const auto now = clock_->now();
+  finish_due(now);
   if (now < next_purge_) {
     return;
   }

@@ -185,6 +185,20 @@ TEST_F(ContractorTest, WorksJobsInOrderAndReportsDone) {
   EXPECT_TRUE(c.jobs().empty());
 }
 
+// Work that takes no time is done when it starts: INFORM-DONE follows the CONFIRM from the
+// handler of the award, without waiting for the next tick (a wake-up of the agent's thread).
+TEST_F(ContractorTest, WorkThatTakesNoTimeIsDoneWithItsConfirmation) {
+  auto c = make({"M1", {{"OP1", 0ms, 1.0}}, 1.0, 2});
+  c.on_announce(announce("a"));
+  c.on_manager_message(award("a", 1));
+  ASSERT_EQ(transport.sent.size(), 3U);
+  EXPECT_EQ(std::get<Confirm>(transport.sent[1].body).award_id, 1U);
+  EXPECT_EQ(std::get<InformDone>(transport.sent[2].body).award_id, 1U);
+  EXPECT_EQ(finished, (std::vector<std::pair<std::string, bool>>{{"a", true}}));
+  EXPECT_TRUE(c.jobs().empty());
+  EXPECT_EQ(c.next_deadline(), std::nullopt);
+}
+
 TEST_F(ContractorTest, CancelAbortsTheJobAndStartsTheNext) {
   auto c = make();
   c.on_announce(announce("a"));

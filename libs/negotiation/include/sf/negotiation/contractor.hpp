@@ -130,6 +130,8 @@ class Contractor final : public ContractorInbox {
   void drop_job(const std::string& conversation, const std::string& why);
   void start_head(Clock::time_point at);
   void finish_head();
+  // Finishes the jobs whose work is over at `now` (tick; and at once a job that takes no time).
+  void finish_due(Clock::time_point now);
   Status send(const std::string& conversation, const std::string& operation, std::uint32_t round,
               ContractorBody body);
   void ignore(std::string_view what, std::string_view reason);

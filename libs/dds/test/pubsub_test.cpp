@@ -99,6 +99,46 @@ TEST_F(PubSub, TypedSamplesArriveOnTheExecutorWithTheirSequence) {
   EXPECT_NE(received[0].info.publication_handle, 0U);
 }
 
+// A filter on the reader's topic: refused samples never reach the reader (no handler call, no
+// instance); accepted ones arrive as usual. Cyclone filters samples with data only: the filter
+// never sees a key-only end, which reaches the reader even for an instance it kept out.
+TEST_F(PubSub, AFilteredTopicsReaderTakesOnlyTheSamplesTheFilterAccepts) {
+  std::vector<std::int64_t> offered;
+  ASSERT_TRUE(sub_topic
+                  ->set_filter([&](const sf_ddstest_Reading& r) {
+                    offered.push_back(r.value);
+                    return r.value % 2 == 0;
+                  })
+                  .ok());
+  auto reader = make_reader();
+  auto writer = make_writer();
+  ASSERT_TRUE(wait_matched(writer, 1));
+  for (const auto& [sensor, value] :
+       std::vector<std::pair<std::string, std::int64_t>>{{"a", 1}, {"b", 2}, {"c", 3}, {"d", 4}}) {
+    ASSERT_TRUE(writer.write(reading(sensor, value)).ok());
+  }
+  ASSERT_TRUE(writer.dispose_and_unregister(reading("a", 1)).ok());
+  ASSERT_TRUE(writer.dispose_and_unregister(reading("b", 2)).ok());
+  ASSERT_TRUE(writer.write(reading("z", 100)).ok());  // the last: all before it were delivered
+  ASSERT_TRUE(pump_until(executor, [&] { return !received.empty() && received.back().sensor == "z"; }));
+  std::vector<std::string> valid;
+  std::vector<std::string> ended;
+  for (const auto& r : received) {
+    if (r.info.valid_data) {
+      valid.push_back(r.sensor);
+    }
+    if (r.info.instance_state != InstanceState::Alive) {
+      ended.push_back(r.sensor);
+    }
+  }
+  EXPECT_EQ(valid, (std::vector<std::string>{"b", "d", "z"}));
+  std::sort(ended.begin(), ended.end());  // b's end may come with its data or after it
+  EXPECT_EQ(ended, (std::vector<std::string>{"a", "b"}));
+  std::sort(offered.begin(), offered.end());
+  offered.erase(std::unique(offered.begin(), offered.end()), offered.end());
+  EXPECT_EQ(offered, (std::vector<std::int64_t>{1, 2, 3, 4, 100}));
+}
+
 TEST_F(PubSub, LateReaderGetsTransientLocalHistory) {
   auto writer = make_writer();
   ASSERT_TRUE(writer.write(reading("a", 1)).ok());

@@ -83,6 +83,10 @@ Result<std::vector<Param>> get_params(const sf_cnp_Params& seq) {
 
 }  // namespace
 
+bool addressed_to(const sf_cnp_ManagerMessage& s, std::string_view contractor) {
+  return view(s.contractor) == contractor;
+}
+
 std::uint64_t key_hash(std::string_view text) {
   // FNV-1a, 64-bit: offset basis and prime of the FNV specification (draft-eastlake-fnv).
   std::uint64_t h = 0xcbf29ce484222325ULL;

@@ -30,6 +30,10 @@ Result<ManagerMessage> decode(const sf_cnp_ManagerMessage& s);
 Result<TransportRequest> decode(const sf_cnp_TransportRequest& s);
 Result<TransportInform> decode(const sf_cnp_TransportInform& s);
 
+// Whether a manager message (AWARD, DIRECTEDAWARD, CANCEL) is addressed to `contractor`; read
+// up to the name's bound, as decoding does. Cheap: it runs in Cyclone's content filter.
+bool addressed_to(const sf_cnp_ManagerMessage& s, std::string_view contractor);
+
 // The IDL's KeyHash: FNV-1a 64 of the bytes of a conversation id, contractor or conveyor name.
 std::uint64_t key_hash(std::string_view text);
 

@@ -55,6 +55,12 @@ Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
   SF_EMPLACE(op->announce_topic, dds::Topic<sf_cnp_Announce>::create(p, announce_topic(name_of_op)));
   SF_EMPLACE(op->bid_topic, dds::Topic<sf_cnp_ContractorMessage>::create(p, bid_topic(name_of_op)));
   SF_EMPLACE(op->award_topic, dds::Topic<sf_cnp_ManagerMessage>::create(p, award_topic(name_of_op)));
+  // Every machine of OPx reads OPx_AWARD (the paper's layout), but only the addressee acts on an
+  // award or cancel: the others' are dropped inside Cyclone, with no instance, listener call or
+  // decoding for them (docs/performance.md). Their ends still arrive: Cyclone does not filter
+  // key-only samples, and the reader never saw their conversation, so they close nothing.
+  SF_TRY(op->award_topic->set_filter(
+      [this](const sf_cnp_ManagerMessage& m) { return codec::addressed_to(m, name); }));
   SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, writer_qos(s)),
              *clock);
   SF_EMPLACE(op->announce, dds::Reader<sf_cnp_Announce>::create(

@@ -72,6 +72,19 @@ TEST(Codec, EveryManagerMessageKindRoundTrips) {
   EXPECT_EQ(std::get<Cancel>(cancel->body).reason, "late");
 }
 
+// The machines' AWARD filter: the whole name, read no further than its bound.
+TEST(Codec, AManagerMessageIsAddressedToItsContractorOnly) {
+  codec::ParamStorage storage;
+  auto s = *codec::encode(ManagerMessage{"c", "P1", "OP1", "M1", 1, Award{1, kT}}, storage);
+  EXPECT_TRUE(codec::addressed_to(s, "M1"));
+  EXPECT_FALSE(codec::addressed_to(s, "M10"));
+  EXPECT_FALSE(codec::addressed_to(s, "M"));
+  EXPECT_FALSE(codec::addressed_to(s, ""));
+  std::memset(s.contractor, 'm', sizeof(s.contractor));  // no terminating NUL
+  EXPECT_TRUE(codec::addressed_to(s, std::string(sizeof(s.contractor), 'm')));
+  EXPECT_FALSE(codec::addressed_to(s, std::string(sizeof(s.contractor) + 1, 'm')));
+}
+
 TEST(Codec, TransportMessagesRoundTrip) {
   auto r = codec::decode(*codec::encode(TransportRequest{"r", "P1", "Input", "M2", kT}));
   EXPECT_EQ(r->from, "Input");

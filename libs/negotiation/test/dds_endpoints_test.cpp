@@ -109,6 +109,33 @@ TEST_F(DdsEndpointsTest, TheEndOfAnInstanceNamesItsConversation) {
   EXPECT_EQ(machine_inbox.closed.back(), std::make_pair(std::string{"OP1"}, c2));
 }
 
+// Every machine of OP1 reads OP1_AWARD, but takes in only what is addressed to it (a content
+// filter): M1 never hears of M2's award and cancel, nor of their conversation's end.
+TEST_F(DdsEndpointsTest, AMachineTakesInOnlyTheAwardsAddressedToIt) {
+  RecordingMachine m2_inbox;
+  auto m2 = MachineEndpoints::create(settings, "M2", {"OP1"}, executor, clock).value();
+  m2->bind(m2_inbox);
+  ASSERT_TRUE(pump([&] { return product->contractors("OP1") == 2; }));
+  const std::string c1 = "P1/OP1/ab.1";
+  const std::string c2 = "P1/OP1/ab.2";
+  ASSERT_TRUE(product->send({c1, "P1", "OP1", "M2", 1, Award{1, clock.utc_now() + 1s}}).ok());
+  ASSERT_TRUE(product->send({c1, "P1", "OP1", "M2", 1, Cancel{1, "withdrawn"}}).ok());
+  ASSERT_TRUE(product->send({c2, "P1", "OP1", "M1", 1, Award{1, clock.utc_now() + 1s}}).ok());
+  // One writer's samples arrive in order: once M1 has c2, it has been offered c1's two.
+  ASSERT_TRUE(pump([&] { return machine_inbox.told.size() == 1 && m2_inbox.told.size() == 2; }));
+  EXPECT_EQ(machine_inbox.told, std::vector<std::string>{c2});
+  EXPECT_EQ(m2_inbox.told, (std::vector<std::string>{c1, c1}));
+
+  product->close("OP1", c1);
+  product->close("OP1", c2);
+  clock.advance(detail::kEndDelay);
+  product->flush_ended();
+  ASSERT_TRUE(pump([&] { return !machine_inbox.closed.empty() && !m2_inbox.closed.empty(); }));
+  using Closed = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(machine_inbox.closed, (Closed{{"OP1", c2}}));
+  EXPECT_EQ(m2_inbox.closed, (Closed{{"OP1", c1}}));
+}
+
 TEST_F(DdsEndpointsTest, ASampleWhoseKeyHashIsNotItsConversationsIsDropped) {
   dds::Participant p = detail::join(settings, settings.machining_domain, "rogue").value();
   auto topic = dds::Topic<sf_cnp_Announce>::create(p, announce_topic("OP1")).value();

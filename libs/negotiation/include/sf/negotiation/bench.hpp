@@ -58,7 +58,7 @@ struct BenchResult {
   std::size_t contractors = 0;
   std::size_t negotiations = 0;
   bool processes = false;
-  SchedulingPolicy contractor_scheduling = SchedulingPolicy::normal;  // of the processes, if any
+  SchedulingPolicy contractor_scheduling = SchedulingPolicy::normal;  // of contractor and pong processes
   std::size_t window = 0;
   LatencyStats latency;         // one negotiation at a time
   double sequential_per_s = 0;  // one at a time

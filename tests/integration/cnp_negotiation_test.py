@@ -196,18 +196,37 @@ def scheduling_policy(pid):
     return None
 
 
+def command_line(pid):
+    try:
+        with open(f"/proc/{pid}/cmdline", "rb") as f:
+            return [a.decode() for a in f.read().split(b"\0") if a]
+    except OSError:
+        return []
+
+
+def option(args, name):
+    """The value after `name` in a command line, or None."""
+    return args[args.index(name) + 1] if name in args[:-1] else None
+
+
 def check_bench_processes(sf, tmp):
     """`cnp bench --processes` measures every negotiation it was asked for with each contractor in
-    its own process, and those processes run under SCHED_BATCH (the default --contractor-sched)."""
+    its own process; those processes run under SCHED_BATCH (the default --contractor-sched) with
+    the benchmark's liveliness lease and network interface."""
     log = os.path.join(tmp, "bench.log")
     n = 3
     bench = Background([sf, "cnp", "bench", "--contractors", str(n), "--negotiations", "200", "--processes",
-                        "--no-ddsperf", "--json"], log=log)
+                        "--no-ddsperf", "--lease-ms", "1500", "--interface", "lo", "--json"], log=log)
     wait_for(lambda: len(children_of(bench.proc.pid)) >= n or not bench.alive(), 60,
              "the benchmark's contractor processes")
-    policies = [scheduling_policy(pid) for pid in children_of(bench.proc.pid)]
+    children = children_of(bench.proc.pid)
+    policies = [scheduling_policy(pid) for pid in children]
     check(len(policies) == n and all(p == 3 for p in policies),
           f"the {n} contractor processes run under SCHED_BATCH (policies {policies})")
+    for pid in children:
+        args = command_line(pid)
+        check(option(args, "--lease-ms") == "1500" and option(args, "--interface") == "lo",
+              f"contractor {pid} got the benchmark's lease and interface: {args}")
     try:
         bench.proc.wait(timeout=180)
     except Exception:

@@ -20,10 +20,10 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <map>
 #include <optional>
 #include <random>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "sf/core/clock.hpp"
@@ -140,7 +140,7 @@ class Contractor final : public ContractorInbox {
   const Clock* clock_;
   ContractorConfig config_;
   ContractorEvents events_;
-  std::map<std::string, Offer> offers_;
+  std::unordered_map<std::string, Offer> offers_;  // by conversation id
   std::deque<Job> jobs_;
   Clock::time_point next_purge_{};
   std::mt19937_64 rng_;

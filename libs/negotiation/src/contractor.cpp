@@ -177,8 +177,9 @@ void Contractor::accept(const ManagerMessage& m, std::uint32_t award_id, const S
   if (events_.on_confirmed) {
     events_.on_confirmed(jobs_.back());
   }
-  start_head(clock_->now());
-  finish_due(clock_->now());
+  const auto now = clock_->now();
+  start_head(now);
+  finish_due(now);  // work that takes no time is done at once
 }
 
 void Contractor::refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason) {

@@ -18,3 +18,17 @@ if(SF_SANITIZE)
   add_compile_options(-fsanitize=${SF_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${SF_SANITIZE})
 endif()
+
+# Thin static archives: an archive names its objects instead of holding a
+# copy of them. Debug objects are large, and a full copy in every archive
+# doubled the disk a build tree needs. Archives are never installed.
+foreach(lang C CXX)
+  set(CMAKE_${lang}_ARCHIVE_CREATE "<CMAKE_AR> qcT <TARGET> <LINK_FLAGS> <OBJECTS>")
+  set(CMAKE_${lang}_ARCHIVE_APPEND "<CMAKE_AR> qT <TARGET> <LINK_FLAGS> <OBJECTS>")
+endforeach()
+
+# Compressed debug sections (zlib) in objects and in what is linked from
+# them: gdb, perf and the sanitizers' symbolizers read them as they are, and
+# a debug build tree takes a third of the disk.
+add_compile_options(-gz)
+add_link_options(-gz)

@@ -2,13 +2,22 @@
 
 namespace sf::negotiation::detail {
 
+namespace {
+
+dds::QosBuilder writer_qos_builder(const DdsSettings& s) {
+  dds::QosBuilder b;
+  b.reliable(std::chrono::seconds{1}).durability(dds::Durability::TransientLocal).keep_last(s.history_depth);
+  return b;
+}
+
+}  // namespace
+
 dds::Qos writer_qos(const DdsSettings& s) {
-  return dds::QosBuilder{}
-      .reliable(std::chrono::seconds{1})
-      .durability(dds::Durability::TransientLocal)
-      .keep_last(s.history_depth)
-      .liveliness(dds::Liveliness::Automatic, s.liveliness_lease)
-      .build();
+  return writer_qos_builder(s).build();
+}
+
+dds::Qos bid_writer_qos(const DdsSettings& s) {
+  return writer_qos_builder(s).liveliness(dds::Liveliness::ManualByTopic, s.liveliness_lease).build();
 }
 
 dds::Qos reader_qos(const DdsSettings& s) {

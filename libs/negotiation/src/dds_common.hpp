@@ -28,8 +28,16 @@ namespace sf::negotiation::detail {
 template <typename T>
 using Opt = std::optional<T>;
 
-// RELIABLE, TRANSIENT_LOCAL, KEEP_LAST(depth); writers assert AUTOMATIC liveliness.
+// RELIABLE, TRANSIENT_LOCAL, KEEP_LAST(depth).
 dds::Qos writer_qos(const DdsSettings& s);
+// writer_qos with MANUAL_BY_TOPIC liveliness and the settings' lease: the machine's OPx_BID
+// writers, whose liveliness the products watch. Only the writer's own writes and assertions keep
+// it alive, and they reach only its matched readers (the products). AUTOMATIC liveliness with a
+// short lease instead makes Cyclone send participant messages (DDSI-RTPS 2.2 §8.4.13) to every
+// participant of the domain, machines included, several times per lease: with 64 machines on one
+// host that was 10 000 datagrams a second (docs/performance.md). It also kept a machine alive
+// whose agent had stopped, as long as Cyclone's threads ran.
+dds::Qos bid_writer_qos(const DdsSettings& s);
 dds::Qos reader_qos(const DdsSettings& s);
 // A participant of `domain` with the settings' network configuration and partition.
 Result<dds::Participant> join(const DdsSettings& s, dds::DomainId domain, const std::string& name);

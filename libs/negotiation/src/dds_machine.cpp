@@ -8,11 +8,11 @@
 
 namespace sf::negotiation {
 
+using detail::bid_writer_qos;
 using detail::join;
 using detail::log_status;
 using detail::Opt;
 using detail::reader_qos;
-using detail::writer_qos;
 
 // ============================================================================
 // Machine: per operation reader ANNOUNCE, reader AWARD, writer BID.
@@ -28,6 +28,7 @@ struct MachineOp {
   Opt<dds::Reader<sf_cnp_ManagerMessage>> award;
   Opt<detail::OpenConversations> announces;
   Opt<detail::OpenConversations> awards;
+  Clock::time_point asserted_at{};  // the BID writer's last write or liveliness assertion
 };
 
 struct MachineEndpoints::Impl {
@@ -35,6 +36,8 @@ struct MachineEndpoints::Impl {
   const Clock* clock = nullptr;
   ContractorInbox* inbox = nullptr;
   std::string name;
+  // A third of the lease: two assertions may be late or lost before the products give up.
+  std::chrono::nanoseconds assert_every{};
   Opt<dds::Participant> participant;
   std::map<std::string, std::unique_ptr<MachineOp>> ops;
 
@@ -61,8 +64,9 @@ Status MachineEndpoints::Impl::add_operation(const DdsSettings& s, const std::st
   // key-only samples, and the reader never saw their conversation, so they close nothing.
   SF_TRY(op->award_topic->set_filter(
       [this](const sf_cnp_ManagerMessage& m) { return codec::addressed_to(m, name); }));
-  SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, writer_qos(s)),
+  SF_EMPLACE(op->bid, dds::Writer<sf_cnp_ContractorMessage>::create(p, *op->bid_topic, bid_writer_qos(s)),
              *clock);
+  op->asserted_at = clock->now();
   SF_EMPLACE(op->announce, dds::Reader<sf_cnp_Announce>::create(
                                p, *op->announce_topic, reader_qos(s), &ex,
                                [this, raw](const sf_cnp_Announce& m, const dds::SampleInfo& i) {
@@ -117,6 +121,7 @@ Result<std::unique_ptr<MachineEndpoints>> MachineEndpoints::create(const DdsSett
   auto impl = std::make_unique<Impl>();
   impl->clock = &clock;
   impl->name = name;
+  impl->assert_every = settings.liveliness_lease / 3;
   SF_EMPLACE(impl->participant, join(settings, settings.machining_domain, "machine/" + name));
   for (const auto& op : operations) {
     SF_TRY(impl->add_operation(settings, op, executor));
@@ -138,7 +143,28 @@ Status MachineEndpoints::send(const ContractorMessage& m) {
   if (!sample) {
     return sample.error();
   }
-  return it->second->bid->write(*sample);
+  MachineOp& op = *it->second;
+  SF_TRY(op.bid->write(*sample));
+  op.asserted_at = impl_->clock->now();  // a write asserts a MANUAL_BY_TOPIC writer's liveliness
+  return {};
+}
+
+void MachineEndpoints::assert_liveliness() {
+  const auto now = impl_->clock->now();
+  for (auto& [name, op] : impl_->ops) {
+    if (now - op->asserted_at >= impl_->assert_every) {
+      op->asserted_at = now;
+      log_status(impl_->log, op->bid->writer().assert_liveliness(), "assert liveliness");
+    }
+  }
+}
+
+std::optional<Clock::time_point> MachineEndpoints::liveliness_due() const {
+  std::optional<Clock::time_point> due;
+  for (const auto& [name, op] : impl_->ops) {
+    due = earliest(due, op->asserted_at + impl_->assert_every);
+  }
+  return due;
 }
 
 // The ends leave in batches (EndingWriter).

@@ -31,6 +31,15 @@ struct RecordingMachine final : ContractorInbox {
   std::vector<std::pair<std::string, std::string>> closed;
 };
 
+struct RecordingManager final : ManagerInbox {
+  void on_contractor_message(const ContractorMessage& m) override { heard.push_back(m.contractor); }
+  void on_contractor_lost(const std::string& operation, const std::string& contractor) override {
+    lost.emplace_back(operation, contractor);
+  }
+  std::vector<std::string> heard;
+  std::vector<std::pair<std::string, std::string>> lost;
+};
+
 struct RecordingConveyor final : ConveyorInbox {
   void on_request(const TransportRequest& r) override { requested.push_back(r.conversation); }
   void on_request_closed(const std::string& conversation) override { closed.push_back(conversation); }
@@ -150,6 +159,38 @@ TEST_F(DdsEndpointsTest, ASampleWhoseKeyHashIsNotItsConversationsIsDropped) {
   // Samples of one writer arrive in order: once the good one is in, the bad one was handled.
   ASSERT_TRUE(pump([&] { return !machine_inbox.announced.empty(); }));
   EXPECT_EQ(machine_inbox.announced, std::vector<std::string>{"P9/OP1/x.3"});
+}
+
+// A machine's OPx_BID writer has MANUAL_BY_TOPIC liveliness: it stays alive while the machine's
+// agent asserts it, without any BID, and once the agent stops asserting the product presumes the
+// machine dead after the lease, although its process and Cyclone's threads still run.
+TEST_F(DdsEndpointsTest, AMachineIsAliveWhileItsAgentAssertsAndLostOnceItStops) {
+  RecordingManager manager;
+  product->bind(manager);
+  DdsSettings s = settings;
+  s.liveliness_lease = 1s;
+  auto m2 = MachineEndpoints::create(s, "M2", {"OP1"}, executor, clock).value();
+  ASSERT_TRUE(pump([&] { return product->bidders("OP1") == 2; }));
+  const Bid bid{clock.utc_now(), clock.utc_now() + 1s, 1.0, 0};
+  ASSERT_TRUE(m2->send({"P1/OP1/ab.1", "M2", "OP1", 1, bid}).ok());
+  ASSERT_TRUE(pump([&] { return manager.heard.size() == 1; }));
+
+  // Three leases of agent turns without a BID; the agent's clock follows the real one, which
+  // Cyclone's lease runs on.
+  auto last = std::chrono::steady_clock::now();
+  const auto until = last + 3s;
+  const auto turn = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    clock.advance(now - last);
+    last = now;
+    m2->assert_liveliness();
+    return now > until;
+  };
+  ASSERT_TRUE(pump(turn));
+  EXPECT_TRUE(manager.lost.empty()) << "lost while asserting";
+
+  ASSERT_TRUE(pump([&] { return !manager.lost.empty(); })) << "not lost after it stopped asserting";
+  EXPECT_EQ(manager.lost, (std::vector<std::pair<std::string, std::string>>{{"OP1", "M2"}}));
 }
 
 // A reader's memory of conversations lasts as long as their instances.

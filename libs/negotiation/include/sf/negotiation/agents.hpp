@@ -41,9 +41,11 @@ class MachineAgent final : public Agent {
   void tick() override {
     contractor_->tick();
     endpoints_->flush_ended();
+    endpoints_->assert_liveliness();
   }
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const override {
-    return earliest(contractor_->next_deadline(), endpoints_->ends_due());
+    return earliest(contractor_->next_deadline(),
+                    earliest(endpoints_->ends_due(), endpoints_->liveliness_due()));
   }
   [[nodiscard]] Contractor& contractor() { return *contractor_; }
   [[nodiscard]] const MachineEndpoints& endpoints() const { return *endpoints_; }

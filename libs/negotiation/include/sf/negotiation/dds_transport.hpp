@@ -16,10 +16,11 @@
 // per writer: close() queues the end, flush_ended() sends the queue once its
 // oldest end waited 50 ms (the agents call it on every turn of their loop and
 // wake at ends_due()), a full queue leaves at once. Readers in the same
-// process see the end when it leaves. A machine's OPx_BID writer asserts
-// AUTOMATIC liveliness with a short lease: when the machine dies, every
-// product's OPx_BID reader sees LIVELINESS_CHANGED for that writer and the
-// manager renegotiates what the machine had confirmed.
+// process see the end when it leaves. A machine's OPx_BID writer has
+// MANUAL_BY_TOPIC liveliness with a short lease, asserted by its BIDs and by
+// the machine's agent loop (assert_liveliness()): when the machine dies or its
+// agent stops, every product's OPx_BID reader sees LIVELINESS_CHANGED for that
+// writer and the manager renegotiates what the machine had confirmed.
 #pragma once
 
 #include <chrono>
@@ -99,6 +100,11 @@ class MachineEndpoints final : public ContractorTransport {
   void flush_ended();
   // When flush_ended() will send; nothing when no end waits.
   [[nodiscard]] std::optional<Clock::time_point> ends_due() const;
+  // Asserts the liveliness of every OPx_BID writer that wrote nothing for a third of the lease
+  // (the agents call it on every turn of their loop and wake at liveliness_due()). Nothing else
+  // does: a machine whose loop stops is presumed dead after the lease, like one that crashed.
+  void assert_liveliness();
+  [[nodiscard]] std::optional<Clock::time_point> liveliness_due() const;
   [[nodiscard]] const dds::Participant& participant() const;
   // Products currently listening (matched to this machine's OPx_BID writers).
   [[nodiscard]] std::size_t managers(const std::string& operation) const;

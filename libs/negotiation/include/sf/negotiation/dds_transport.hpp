@@ -101,8 +101,9 @@ class MachineEndpoints final : public ContractorTransport {
   // When flush_ended() will send; nothing when no end waits.
   [[nodiscard]] std::optional<Clock::time_point> ends_due() const;
   // Asserts the liveliness of every OPx_BID writer that wrote nothing for a third of the lease
-  // (the agents call it on every turn of their loop and wake at liveliness_due()). Nothing else
-  // does: a machine whose loop stops is presumed dead after the lease, like one that crashed.
+  // (the agents call it on every turn of their loop and wake at liveliness_due()). Cyclone does
+  // not assert it by itself: a machine whose loop stops is presumed dead after the lease, like one
+  // that crashed.
   void assert_liveliness();
   [[nodiscard]] std::optional<Clock::time_point> liveliness_due() const;
   [[nodiscard]] const dds::Participant& participant() const;

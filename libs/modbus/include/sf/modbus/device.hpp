@@ -47,7 +47,7 @@ struct Fault {
 
 class Device {
  public:
-  Device() = default;
+  Device() { set_fault(Fault{}); }
   Device(const Device&) = delete;
   Device& operator=(const Device&) = delete;
   virtual ~Device() = default;
@@ -65,12 +65,12 @@ class Device {
   [[nodiscard]] std::mutex& mutex() const { return mutex_; }
 
   // Any thread; takes effect from the next request (and, for unreachable, the next connection).
-  void set_fault(Fault fault) { fault_.store(fault); }
-  [[nodiscard]] Fault fault() const { return fault_.load(); }
+  void set_fault(Fault fault);
+  [[nodiscard]] Fault fault() const;
 
  private:
   mutable std::mutex mutex_;
-  std::atomic<Fault> fault_{Fault{}};
+  std::atomic<std::uint16_t> fault_{0};  // kind << 8 | exception: one lock-free word
 };
 
 // A device that is only its register bank: no model, no hooks (tests, benchmarks, fuzzing).

@@ -97,7 +97,7 @@ void check_responses(const std::vector<std::uint8_t>& bytes) {
     if (bytes.size() - at < 9) {
       __builtin_trap();
     }
-    const unsigned protocol = (bytes[at + 2] << 8U) | bytes[at + 3];
+    const unsigned protocol = (static_cast<unsigned>(bytes[at + 2]) << 8U) | bytes[at + 3];
     const std::size_t length = (static_cast<std::size_t>(bytes[at + 4]) << 8U) | bytes[at + 5];
     if (protocol != 0 || length < 3 || length > kMaxPduLength + 1 || bytes.size() - at < 6 + length) {
       __builtin_trap();

@@ -20,7 +20,7 @@ bool Request::coil_value(std::size_t i) const {
   if (i / 8 >= data.size()) {
     return false;
   }
-  return ((data[i / 8] >> (i % 8)) & 1U) != 0;
+  return ((static_cast<unsigned>(data[i / 8]) >> (i % 8)) & 1U) != 0;
 }
 
 namespace {

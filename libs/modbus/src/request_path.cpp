@@ -140,13 +140,15 @@ std::optional<ExceptionCode> check_request(const RegisterBank& bank, const Reque
       }
       return fits(bank, *r.write) ? std::nullopt : std::optional{kAddress};
     case FunctionCode::write_multiple_registers:
-      if (!quantity_in(r.write->count, kMaxWriteRegisters) || r.data.size() != 2U * r.write->count) {
+      if (!quantity_in(r.write->count, kMaxWriteRegisters) ||
+          r.data.size() != std::size_t{2} * r.write->count) {
         return kValue;
       }
       return fits(bank, *r.write) ? std::nullopt : std::optional{kAddress};
     case FunctionCode::read_write_multiple_registers:
       if (!quantity_in(r.write->count, kMaxReadWriteRegisters) ||
-          !quantity_in(r.read->count, kMaxReadRegisters) || r.data.size() != 2U * r.write->count) {
+          !quantity_in(r.read->count, kMaxReadRegisters) ||
+          r.data.size() != std::size_t{2} * r.write->count) {
         return kValue;
       }
       return fits(bank, *r.read) && fits(bank, *r.write) ? std::nullopt : std::optional{kAddress};

@@ -20,7 +20,7 @@ using namespace std::chrono_literals;
 
 class ServerTest : public ::testing::Test {
  protected:
-  void start(ServerOptions options = {}) {
+  void start(const ServerOptions& options = {}) {
     auto server = Server::listen(device_, options);
     ASSERT_TRUE(server.ok()) << server.error().describe();
     server_ = std::move(*server);
@@ -160,6 +160,7 @@ TEST_F(ServerTest, ServesManyClientsAtOnce) {
   constexpr int kRounds = 40;
   std::atomic<int> failures{0};
   std::vector<std::thread> threads;
+  threads.reserve(kClients);
   for (int i = 0; i < kClients; ++i) {
     threads.emplace_back([&, i] {
       auto client = TcpClient::create(TcpClientOptions{.port = server_->port()});

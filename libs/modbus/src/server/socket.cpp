@@ -5,7 +5,7 @@
 #include <netinet/tcp.h>
 #include <sys/socket.h>
 
-#include <cstring>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -34,7 +34,7 @@ unsigned local_port(int fd) {
 }
 
 std::string errno_text(int err) {
-  return fmt::format("{} (errno {})", std::strerror(err), err);
+  return fmt::format("{} (errno {})", std::generic_category().message(err), err);
 }
 
 }  // namespace sf::modbus::detail

@@ -15,7 +15,8 @@
 #include "sf/core/result.hpp"
 #include "sf/modbus/protocol.hpp"
 
-struct _modbus_mapping_t;  // libmodbus (modbus.h); kept out of this header with its macros
+// libmodbus's mapping type (modbus.h), declared here so its macros stay out of this header.
+struct _modbus_mapping_t;  // NOLINT(bugprone-reserved-identifier)
 
 namespace sf::modbus {
 

@@ -12,7 +12,7 @@
 #include "sf/core/result.hpp"
 #include "sf/modbus/client.hpp"
 
-struct _modbus;  // libmodbus's modbus_t
+struct _modbus;  // NOLINT(bugprone-reserved-identifier): libmodbus's modbus_t
 
 namespace sf::modbus {
 

@@ -15,42 +15,13 @@ namespace {
 
 using config::Node;
 
-Status only_keys(const Node& node, std::initializer_list<std::string_view> allowed) {
-  auto keys = node.keys();
-  if (!keys) {
-    return keys.error();
-  }
-  for (const std::string& key : *keys) {
-    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-      std::string list;
-      for (std::string_view a : allowed) {
-        list += (list.empty() ? "" : ", ") + std::string(a);
-      }
-      auto child = node.child(key);
-      return (child ? *child : node).error(fmt::format("unknown setting '{}' (known: {})", key, list));
-    }
-  }
-  return {};
-}
-
-// Sets `out` from node[key] when the key is there (a value of the wrong type is an error).
-template <typename T>
-Status read(const Node& node, std::string_view key, T& out) {
-  auto value = node.get_or<T>(key, out);
-  if (!value) {
-    return value.error();
-  }
-  out = std::move(*value);
-  return {};
-}
-
 Result<SubscribeRule> parse_rule(const Node& node) {
-  SF_TRY(only_keys(node, {"browse_path", "node", "type", "depth"}));
+  SF_TRY(node.only_keys({"browse_path", "node", "type", "depth"}));
   SubscribeRule rule;
-  SF_TRY(read(node, "browse_path", rule.browse_path));
-  SF_TRY(read(node, "node", rule.node));
-  SF_TRY(read(node, "type", rule.type));
-  SF_TRY(read(node, "depth", rule.depth));
+  SF_TRY(node.read("browse_path", rule.browse_path));
+  SF_TRY(node.read("node", rule.node));
+  SF_TRY(node.read("type", rule.type));
+  SF_TRY(node.read("depth", rule.depth));
   const int kinds = int{!rule.browse_path.empty()} + int{!rule.node.empty()} + int{!rule.type.empty()};
   if (kinds != 1) {
     return node.error("a subscribe rule names exactly one of browse_path, node and type");
@@ -67,11 +38,11 @@ Result<SubscribeRule> parse_rule(const Node& node) {
 // How to connect (issue 6): security POLICY:MODE, none or auto; a user name with a password file,
 // or a user certificate and key. Checked further by the application that applies it.
 Status parse_connection_security(const Node& node, ConnectionSecurity& out) {
-  SF_TRY(read(node, "security", out.security));
-  SF_TRY(read(node, "user", out.user));
-  SF_TRY(read(node, "password_file", out.password_file));
-  SF_TRY(read(node, "user_certificate", out.user_certificate));
-  SF_TRY(read(node, "user_key", out.user_key));
+  SF_TRY(node.read("security", out.security));
+  SF_TRY(node.read("user", out.user));
+  SF_TRY(node.read("password_file", out.password_file));
+  SF_TRY(node.read("user_certificate", out.user_certificate));
+  SF_TRY(node.read("user_key", out.user_key));
   if (!out.password_file.empty() && out.user.empty()) {
     return node.error("password_file needs a user");
   }
@@ -86,10 +57,10 @@ Status parse_connection_security(const Node& node, ConnectionSecurity& out) {
 
 // The settings a server entry and the discovery defaults share.
 Status parse_subscription_settings(const Node& node, ServerConfig& out) {
-  SF_TRY(read(node, "publishing_interval_ms", out.publishing_interval_ms));
-  SF_TRY(read(node, "sampling_interval_ms", out.sampling_interval_ms));
-  SF_TRY(read(node, "queue_size", out.queue_size));
-  SF_TRY(read(node, "events", out.events));
+  SF_TRY(node.read("publishing_interval_ms", out.publishing_interval_ms));
+  SF_TRY(node.read("sampling_interval_ms", out.sampling_interval_ms));
+  SF_TRY(node.read("queue_size", out.queue_size));
+  SF_TRY(node.read("events", out.events));
   if (out.publishing_interval_ms <= 0 || out.sampling_interval_ms < 0 || out.queue_size == 0) {
     return node.error("publishing_interval_ms > 0, sampling_interval_ms >= 0 and queue_size > 0 are needed");
   }
@@ -125,9 +96,9 @@ Status check_url(const Node& node, const std::string& url) {
 }
 
 Result<ServerConfig> parse_server(const Node& node) {
-  SF_TRY(only_keys(node,
-                   {"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
-                    "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
+  SF_TRY(
+      node.only_keys({"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
+                      "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
   ServerConfig server;
   auto name = node.get<std::string>("name");
   auto url = node.get<std::string>("url");
@@ -148,14 +119,14 @@ Result<ServerConfig> parse_server(const Node& node) {
 }
 
 Status parse_historian(const Node& node, HistorianConfig& out) {
-  SF_TRY(only_keys(node, {"url", "buffer", "batch", "flush_ms"}));
-  SF_TRY(read(node, "url", out.url));
+  SF_TRY(node.only_keys({"url", "buffer", "batch", "flush_ms"}));
+  SF_TRY(node.read("url", out.url));
   std::string buffer = out.buffer.string();
-  SF_TRY(read(node, "buffer", buffer));
+  SF_TRY(node.read("buffer", buffer));
   out.buffer = buffer;
-  SF_TRY(read(node, "batch", out.batch));
+  SF_TRY(node.read("batch", out.batch));
   auto flush = out.flush_interval.count();
-  SF_TRY(read(node, "flush_ms", flush));
+  SF_TRY(node.read("flush_ms", flush));
   out.flush_interval = std::chrono::milliseconds(flush);
   if (!out.url.starts_with("sqlite:") && !out.url.starts_with("postgresql://") &&
       !out.url.starts_with("postgres://")) {
@@ -168,25 +139,25 @@ Status parse_historian(const Node& node, HistorianConfig& out) {
 }
 
 Status parse_aggregating(const Node& node, AggregatingServerConfig& out) {
-  SF_TRY(only_keys(node, {"host", "port", "enabled", "security", "policies", "users", "anonymous"}));
+  SF_TRY(node.only_keys({"host", "port", "enabled", "security", "policies", "users", "anonymous"}));
   out.enabled = true;
-  SF_TRY(read(node, "host", out.host));
-  SF_TRY(read(node, "port", out.port));
-  SF_TRY(read(node, "enabled", out.enabled));
-  SF_TRY(read(node, "security", out.security));
-  SF_TRY(read(node, "policies", out.policies));
-  SF_TRY(read(node, "users", out.users));
-  SF_TRY(read(node, "anonymous", out.anonymous));
+  SF_TRY(node.read("host", out.host));
+  SF_TRY(node.read("port", out.port));
+  SF_TRY(node.read("enabled", out.enabled));
+  SF_TRY(node.read("security", out.security));
+  SF_TRY(node.read("policies", out.policies));
+  SF_TRY(node.read("users", out.users));
+  SF_TRY(node.read("anonymous", out.anonymous));
   return {};
 }
 
 Result<DiscoveryConfig> parse_discovery(const Node& node) {
-  SF_TRY(only_keys(
-      node, {"url", "interval_s", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
-             "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
+  SF_TRY(node.only_keys({"url", "interval_s", "publishing_interval_ms", "sampling_interval_ms", "queue_size",
+                         "events", "subscribe", "security", "user", "password_file", "user_certificate",
+                         "user_key"}));
   DiscoveryConfig discovery;
   auto interval = discovery.interval.count();
-  SF_TRY(read(node, "interval_s", interval));
+  SF_TRY(node.read("interval_s", interval));
   if (interval <= 0) {
     return node.error("interval_s must be positive");
   }
@@ -202,9 +173,9 @@ Result<DiscoveryConfig> parse_discovery(const Node& node) {
 }
 
 Result<GatewayConfig> parse_root(const Node& root) {
-  SF_TRY(only_keys(root, {"historian", "servers", "discovery", "aggregating_server", "pki"}));
+  SF_TRY(root.only_keys({"historian", "servers", "discovery", "aggregating_server", "pki"}));
   GatewayConfig config;
-  SF_TRY(read(root, "pki", config.pki));
+  SF_TRY(root.read("pki", config.pki));
   if (root.has("historian")) {
     SF_TRY(parse_historian(*root.child("historian"), config.historian));
   }

@@ -29,6 +29,30 @@ SteadyClock& SteadyClock::instance() {
   return clock;
 }
 
+ScaledClock::ScaledClock(double factor)
+    : factor_(factor > 0.0 ? factor : 1.0),
+      origin_(std::chrono::steady_clock::now()),
+      utc_origin_(std::chrono::system_clock::now()) {}
+
+Clock::time_point ScaledClock::now() const {
+  const auto real = std::chrono::steady_clock::now() - origin_;
+  return origin_ + std::chrono::duration_cast<duration>(real * factor_);
+}
+
+Clock::utc_time ScaledClock::utc_now() const {
+  const auto scaled = now() - origin_;
+  return utc_origin_ + std::chrono::duration_cast<utc_time::duration>(scaled);
+}
+
+void ScaledClock::sleep_until(time_point deadline) {
+  const auto ahead = deadline - now();
+  if (ahead <= duration::zero()) {
+    return;
+  }
+  SteadyClock::instance().sleep_until(std::chrono::steady_clock::now() +
+                                      std::chrono::duration_cast<duration>(ahead / factor_));
+}
+
 Clock::time_point ManualClock::now() const {
   return time_point{std::chrono::nanoseconds{ns_.load(std::memory_order_acquire)}};
 }

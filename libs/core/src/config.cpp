@@ -1,5 +1,6 @@
 #include "sf/core/config.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -101,6 +102,25 @@ Result<std::vector<std::string>> Node::keys() const {
     out.push_back(kv.first.as<std::string>());
   }
   return out;
+}
+
+Status Node::only_keys(std::initializer_list<std::string_view> allowed) const {
+  auto list = keys();
+  if (!list) {
+    return list.error();
+  }
+  for (const std::string& key : *list) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) {
+      continue;
+    }
+    std::string known;
+    for (std::string_view a : allowed) {
+      known += (known.empty() ? "" : ", ") + std::string(a);
+    }
+    auto c = child(key);
+    return (c ? *c : *this).error(fmt::format("unknown setting '{}' (known: {})", key, known));
+  }
+  return {};
 }
 
 Result<std::string> Node::scalar() const {

@@ -60,5 +60,17 @@ TEST(SteadyClock, IsMonotonic) {
   }
 }
 
+TEST(ScaledClock, SleepUntilReachesItsOwnDeadlineAndRunsAhead) {
+  ScaledClock clock(50.0);
+  const auto real_start = std::chrono::steady_clock::now();
+  const auto start = clock.now();
+  clock.sleep_until(start + 100ms);  // 2 ms of real time
+  EXPECT_GE(clock.now(), start + 100ms);
+  // Scaled time ran at least as far as the real time times the factor allows.
+  const auto real = std::chrono::steady_clock::now() - real_start;
+  EXPECT_GE(clock.now() - start, std::chrono::duration_cast<Clock::duration>(real * 49.0));
+  EXPECT_GE(clock.utc_now() - std::chrono::system_clock::now(), std::chrono::milliseconds{90});
+}
+
 }  // namespace
 }  // namespace sf

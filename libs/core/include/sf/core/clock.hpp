@@ -34,6 +34,24 @@ class SteadyClock final : public Clock {
   static SteadyClock& instance();
 };
 
+// Real time sped up (or slowed down) by a constant factor from the moment
+// of construction: a simulation that should run N times faster than the
+// wall clock while still driven by real sleeps. UTC advances at the same pace.
+class ScaledClock final : public Clock {
+ public:
+  explicit ScaledClock(double factor);
+
+  [[nodiscard]] time_point now() const override;
+  [[nodiscard]] utc_time utc_now() const override;
+  void sleep_until(time_point deadline) override;
+  [[nodiscard]] double factor() const { return factor_; }
+
+ private:
+  double factor_;
+  std::chrono::steady_clock::time_point origin_;
+  utc_time utc_origin_;
+};
+
 // A clock that moves only when told to. sleep_until() jumps forward to the
 // deadline, so code that sleeps in a loop runs instantly and repeatably.
 // Thread-safe: now() may be read while another thread advances the clock.

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <string>
@@ -52,6 +53,21 @@ class Node {
       return fallback;
     }
     return get<T>(key);
+  }
+
+  // Every key of this mapping is one of `allowed`: a misspelt key is an error
+  // at that key naming the known ones, not a silently ignored setting.
+  [[nodiscard]] Status only_keys(std::initializer_list<std::string_view> allowed) const;
+  // Sets `out` from this[key] when the key is there (a malformed value is an
+  // error; a missing key leaves `out` as it is).
+  template <typename T>
+  [[nodiscard]] Status read(std::string_view key, T& out) const {
+    auto value = get_or<T>(key, out);
+    if (!value) {
+      return value.error();
+    }
+    out = std::move(*value);
+    return {};
   }
 
   // Errors and warnings about this node: "file:line:col: path: message".

@@ -150,8 +150,9 @@ void print_text(const ecat::master::Master& master, const json& result) {
 }  // namespace
 
 void add_link_options(CLI::App& command, LinkChoice& link) {
-  auto* iface =
-      command.add_option("--iface", link.iface, "Network interface of the EtherCAT segment (needs root)");
+  auto* iface = command.add_option("--iface", link.iface,
+                                   "Network interface of the EtherCAT segment (needs root), or udp:HOST:PORT "
+                                   "for EtherCAT in UDP (a plant)");
   auto* sim = command.add_option("--sim", link.sim,
                                  "No interface: emulate this segment in-process, e.g. "
                                  "smart-controller:1,digital-io:2,servo:1");
@@ -172,11 +173,12 @@ void set_input_pattern(ecat::slave::Segment& segment) {
 }
 
 Result<std::unique_ptr<ecat::Link>> open_link(const LinkChoice& choice, const Clock& clock) {
-  auto raw = ecat::RawSocketLink::open(choice.iface);
-  if (!raw) {
-    return raw.error();
+  // An interface name, or udp:HOST:PORT for a segment that speaks EtherCAT in UDP (a plant).
+  auto opened = ecat::open_link(choice.iface);
+  if (!opened) {
+    return opened.error();
   }
-  std::unique_ptr<ecat::Link> link = std::move(*raw);
+  std::unique_ptr<ecat::Link> link = std::move(*opened);
   if (!choice.pcap.empty()) {
     auto tap = ecat::PcapTap::open(std::move(link), choice.pcap, clock);
     if (!tap) {

@@ -87,6 +87,56 @@ class RawSocketLink final : public Link {
 };
 
 // ---------------------------------------------------------------------------
+// UdpLink: EtherCAT frames in UDP datagrams (IEC 61158-4-12 / ETG.1000.4
+// "EtherCAT frame in UDP/IP": the EtherCAT header and its datagrams are the
+// payload of a UDP datagram to port 0x88A4), so a master and an emulated
+// segment in different processes meet on loopback without CAP_NET_RAW.
+// The Link still carries whole Ethernet frames: send() strips the Ethernet
+// header (and a VLAN tag), receive() puts a synthetic one back (destination
+// this link's MAC, source the peer's, EtherType 0x88A4). Datagrams that are
+// not EtherCAT (too short, header type not 1, length past the payload) are
+// skipped and counted.
+// ---------------------------------------------------------------------------
+class UdpLink final : public Link {
+ public:
+  static constexpr std::uint16_t kPort = 0x88A4;  // 34980
+
+  // Master side: sends to host:port and receives the replies from there.
+  static Result<std::unique_ptr<UdpLink>> connect(const std::string& host, std::uint16_t port = kPort);
+  // Segment side: listens on host:port (0 = a free port) and replies to
+  // whoever sent the last frame.
+  static Result<std::unique_ptr<UdpLink>> listen(const std::string& host, std::uint16_t port = kPort);
+  ~UdpLink() override;
+  UdpLink(const UdpLink&) = delete;
+  UdpLink& operator=(const UdpLink&) = delete;
+
+  Status send(ByteSpan frame) override;
+  Result<std::size_t> receive(MutableByteSpan buf, std::chrono::nanoseconds timeout) override;
+  [[nodiscard]] MacAddress mac() const override { return mac_; }
+  [[nodiscard]] std::string name() const override;
+  [[nodiscard]] std::uint16_t local_port() const { return local_port_; }
+  [[nodiscard]] std::uint64_t skipped() const { return skipped_.load(); }
+
+ private:
+  struct Peer;
+  UdpLink(int fd, bool listening, std::uint16_t local_port, std::string name);
+
+  int fd_;
+  bool listening_;
+  std::uint16_t local_port_;
+  std::string name_;
+  MacAddress mac_;
+  std::unique_ptr<Peer> peer_;
+  std::mutex peer_mutex_;
+  std::atomic<std::uint64_t> skipped_{0};
+};
+
+// A link from a command-line spec: "udp:HOST:PORT" (a UdpLink to a segment
+// listening there; PORT defaults to 0x88A4) or an interface name (a
+// RawSocketLink).
+Result<std::unique_ptr<Link>> open_link(const std::string& spec);
+
+// ---------------------------------------------------------------------------
 // PcapTap: a Link decorator that records every frame sent and received into a
 // classic pcap file (LINKTYPE_ETHERNET = 1) readable by Wireshark/tshark.
 // Timestamps come from clock.utc_now(), so tests with a ManualClock produce

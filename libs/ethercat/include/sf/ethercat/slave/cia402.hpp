@@ -65,6 +65,10 @@ class Cia402Axis {
   [[nodiscard]] std::int32_t target_position() const { return target_->get<std::int32_t>(); }
   [[nodiscard]] std::uint16_t error_code() const { return error_code_->get<std::uint16_t>(); }
   [[nodiscard]] double following_error() const { return demand_ - position_; }
+  // A fault of the drive itself (overtemperature, encoder, power stage): the
+  // fault reaction starts as the drive's own supervision would start it, with
+  // `error` in 0x603F (CiA 402 §6.2, transition 13).
+  void inject_fault(std::uint16_t error) { fault(error); }
   // Test hook: move the motor (e.g. an external load) without a command.
   void set_position(double counts);
 

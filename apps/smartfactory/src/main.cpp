@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_HISTORY
   sf::app::register_history(app, result);
 #endif
+#ifdef SF_HAVE_PLANT
+  sf::app::register_plant(app, result);
+#endif
 #ifdef SF_HAVE_KB
   sf::app::register_kb(app, result);
 #endif

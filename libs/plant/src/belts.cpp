@@ -1,0 +1,208 @@
+// Conveyor belt physics (world.hpp): boxes ride the belt at its speed, stop
+// at a raised stopper, queue behind the box ahead, cross onto the next belt
+// when its entry is free, and wait at the end when it is not: no box
+// overlaps another and none is lost at a transfer.
+#include <algorithm>
+#include <cmath>
+
+#include "sf/plant/world.hpp"
+
+namespace sf::plant {
+
+namespace {
+constexpr double kEpsilon = 1e-9;
+}
+
+double World::box_length(const Box& box) const {
+  return layout_.catalog.box_types[box.type].size_m.x;
+}
+
+std::optional<std::size_t> World::exit_of(std::size_t b) const {
+  const auto& next = layout_.belts[b].next;
+  if (next.empty()) {
+    return std::nullopt;
+  }
+  return layout_.belt_index(next[std::min(belts_[b].exit, next.size() - 1)]);
+}
+
+bool World::crossing(const Box& box) const {
+  return box.s > layout_.belts[box.belt].length() - box_length(box) / 2.0 + kEpsilon;
+}
+
+bool World::entry_free(std::size_t b, double front, BoxId except) const {
+  for (const Box& o : boxes_) {
+    if (o.id == except) {
+      continue;
+    }
+    if (o.belt == b && o.s - box_length(o) / 2.0 < front - kEpsilon) {
+      return false;
+    }
+    if (o.belt != b && crossing(o) && exit_of(o.belt) == b) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool World::span_free(std::size_t b, double s, double half, BoxId except) const {
+  for (const Box& o : boxes_) {
+    if (o.id == except) {
+      continue;
+    }
+    if (o.belt == b && std::abs(o.s - s) < half + box_length(o) / 2.0 - kEpsilon) {
+      return false;
+    }
+    if (o.belt != b && crossing(o) && exit_of(o.belt) == b &&
+        s - half < o.s + box_length(o) / 2.0 - layout_.belts[o.belt].length()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool World::covered(std::size_t b, double s) const {
+  for (const Box& o : boxes_) {
+    const double half = box_length(o) / 2.0;
+    if (o.belt == b && std::abs(o.s - s) <= half) {
+      return true;
+    }
+    if (o.belt != b && crossing(o) && exit_of(o.belt) == b &&
+        s <= o.s + half - layout_.belts[o.belt].length()) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void World::move_forward(std::size_t b, Box& box, double ds, const Box* ahead) {
+  const BeltSpec& spec = layout_.belts[b];
+  const double length = spec.length();
+  const double half = box_length(box) / 2.0;
+  double limit = box.s + ds;
+  for (std::size_t k = 0; k < spec.stations.size(); ++k) {
+    const double at = spec.stations[k].at_m;
+    if (belts_[b].stoppers[k] && box.s <= at + kEpsilon && limit > at) {
+      limit = at;
+    }
+  }
+  if (ahead != nullptr) {
+    limit = std::min(limit, ahead->s - box_length(*ahead) / 2.0 - half);
+  }
+  const double hold = length - half;
+  if (limit > hold) {
+    const auto next = exit_of(b);
+    if (!next || !entry_free(*next, limit - length + half, box.id)) {
+      limit = std::min(limit, std::max(box.s, hold));
+    }
+  }
+  limit = std::max(limit, box.s);
+  if (limit > length) {
+    const auto next = exit_of(b);
+    record(EventKind::box_transferred, layout_.belts[*next].name, box.id, -1, {}, "from " + spec.name);
+    box.belt = *next;
+    box.s = limit - length;
+    box.moved_step = steps_;
+    return;
+  }
+  box.s = limit;
+}
+
+void World::move_backward(std::size_t b, Box& box, double ds, const Box* behind) {
+  const BeltSpec& spec = layout_.belts[b];
+  const double half = box_length(box) / 2.0;
+  double limit = box.s - ds;
+  for (std::size_t k = 0; k < spec.stations.size(); ++k) {
+    const double at = spec.stations[k].at_m;
+    if (belts_[b].stoppers[k] && box.s >= at - kEpsilon && limit < at) {
+      limit = at;
+    }
+  }
+  if (behind != nullptr) {
+    limit = std::max(limit, behind->s + box_length(*behind) / 2.0 + half);
+  }
+  box.s = std::min(box.s, std::max(limit, half));
+}
+
+void World::move_belt(std::size_t b, double dt) {
+  BeltState& belt = belts_[b];
+  if (!belt.motor || belt.speed_mps <= 0.0) {
+    return;
+  }
+  belt.odometer_m += belt.speed_mps * dt;
+  if (belt.jammed) {
+    return;  // the belt slips under the boxes
+  }
+  std::vector<Box*> on;
+  for (Box& box : boxes_) {
+    if (box.belt == b && box.moved_step != steps_) {
+      on.push_back(&box);
+    }
+  }
+  const double ds = belt.speed_mps * dt;
+  if (!belt.reverse) {
+    std::sort(on.begin(), on.end(), [](const Box* x, const Box* y) { return x->s > y->s; });
+    const Box* ahead = nullptr;
+    for (Box* box : on) {
+      const double before = box->s;
+      move_forward(b, *box, ds, ahead);
+      note_station(*box, box->belt != b || box->s != before);
+      ahead = box->belt == b ? box : nullptr;
+    }
+    return;
+  }
+  std::sort(on.begin(), on.end(), [](const Box* x, const Box* y) { return x->s < y->s; });
+  const Box* behind = nullptr;
+  for (Box* box : on) {
+    const double before = box->s;
+    move_backward(b, *box, ds, behind);
+    note_station(*box, box->s != before);
+    behind = box;
+  }
+}
+
+// A box "enters" a station when it comes to rest in place there, and
+// "leaves" it when it moves away.
+void World::note_station(Box& box, bool moved) {
+  const auto& stations = layout_.belts[box.belt].stations;
+  if (box.station >= 0) {
+    const auto k = static_cast<std::size_t>(box.station);
+    if (k >= stations.size() || std::abs(box.s - stations[k].at_m) > kInPlaceTolerance) {
+      record(EventKind::box_left_station, station_name(box.belt, k), box.id);
+      box.station = -1;
+    }
+  }
+  if (moved || box.station >= 0) {
+    return;
+  }
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    if (std::abs(box.s - stations[k].at_m) <= kInPlaceTolerance) {
+      box.station = static_cast<int>(k);
+      record(EventKind::box_entered_station, station_name(box.belt, k), box.id);
+      return;
+    }
+  }
+}
+
+bool World::entry_eye(std::size_t b) const {
+  return covered(b, kEyeInset);
+}
+
+bool World::exit_eye(std::size_t b) const {
+  return belts_[b].jammed || covered(b, layout_.belts[b].length() - kEyeInset);
+}
+
+bool World::station_eye(std::size_t b, std::size_t station) const {
+  return covered(b, layout_.belts[b].stations.at(station).at_m);
+}
+
+const Box* World::box_in_place(std::size_t b, std::size_t station) const {
+  const double at = layout_.belts[b].stations.at(station).at_m;
+  for (const Box& box : boxes_) {
+    if (box.belt == b && std::abs(box.s - at) <= kInPlaceTolerance) {
+      return &box;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace sf::plant

@@ -1,0 +1,168 @@
+// The plant driven directly at its hardware faces, without any agent: our
+// EtherCAT master for the smart robot, Modbus requests for the PLCs and the
+// legacy robot controllers. A box is uploaded, carried to SCARA Robot 1,
+// loaded by it, carried to the DENSO arm, loaded by its controller's job,
+// carried to the downloader and inspected.
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "rig.hpp"
+
+namespace sf::plant::testing {
+namespace {
+
+std::uint16_t candy(Rig& rig, std::string_view name) {
+  return static_cast<std::uint16_t>(*rig.world().layout().catalog.candy_index(name) + 1);
+}
+
+// Runs the whole scripted sequence; returns the event log as text.
+std::vector<std::string> pack_one_box(Rig& rig) {
+  // Uploader: a small box onto conveyor1.
+  rig.hr("uploader", transfer_plc::kBoxType, 1);
+  EXPECT_EQ(rig.run_job("uploader"), FaultCode::none);
+  const auto id = static_cast<BoxId>(rig.ir("uploader", transfer_plc::kBoxId));
+  EXPECT_EQ(id, 1U);
+
+  // Belts: to SCARA Robot 1's station.
+  rig.convey({"conveyor1", "conveyor2"}, 0);
+  EXPECT_EQ(rig.ir("conveyor2", conveyor_plc::kStationBox), id);
+  EXPECT_TRUE(rig.di("conveyor2", conveyor_plc::kStationEye));
+
+  {
+    // The smart robot: over the gummy dispenser, down, grip, up, over slot 3, down, release, up.
+    SmartArm arm(rig, "scara-robot-1");
+    EXPECT_TRUE(arm.inputs() & (1U << kDiBoxInPlace));
+    const motion::Vec3 pick = rig.world().layout().dispenser("scara1-gummy")->at;
+    arm.move_to(pick + motion::Vec3{0, 0, 0.05});
+    arm.move_to(pick);
+    arm.gripper(true);
+    EXPECT_TRUE(arm.inputs() & kDiPartPresent);
+    EXPECT_TRUE(arm.inputs() & kDiVacuumOk);
+    arm.move_to(pick + motion::Vec3{0, 0, 0.05});
+    const motion::Vec3 slot = rig.world().slot_position(*rig.world().box(id), 3);
+    arm.move_to(slot + motion::Vec3{0, 0, 0.05});
+    arm.move_to(slot + motion::Vec3{0, 0, 0.01});
+    arm.gripper(false);
+    EXPECT_FALSE(arm.inputs() & kDiPartPresent);
+    arm.move_to(slot + motion::Vec3{0, 0, 0.08});
+  }
+  auto snapshot = rig.plant().snapshot();
+  EXPECT_EQ(snapshot.boxes.at(0).slots.at(3), "gummy");
+
+  // Belts: to the DENSO arm; its controller loads a lollipop into slot 7.
+  rig.convey({"conveyor2", "conveyor4"}, 0);
+  rig.hr("denso", robot_controller::kCandyType, candy(rig, "lollipop"));
+  rig.hr("denso", robot_controller::kSlot, 7);
+  rig.hr("denso", robot_controller::kStation, 0);
+  EXPECT_TRUE(rig.di("denso", robot_controller::kBoxInPlace));
+  EXPECT_EQ(rig.run_job("denso"), FaultCode::none);
+  EXPECT_EQ(rig.ir("denso", robot_controller::kJobsDone), 1);
+  snapshot = rig.plant().snapshot();
+  EXPECT_EQ(snapshot.boxes.at(0).slots.at(7), "lollipop");
+
+  // Belts: to the downloader, which takes the box off and inspects it.
+  rig.convey({"conveyor4"}, 1);
+  EXPECT_EQ(rig.run_job("downloader"), FaultCode::none);
+  EXPECT_EQ(rig.ir("downloader", transfer_plc::kBoxId), id);
+  EXPECT_EQ(rig.ir("downloader", transfer_plc::kWeight), 575);  // (40 + 2.5 + 15) g in 0.1 g
+  EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyTotal), 2);
+  EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyCount + candy(rig, "gummy") - 1), 1);
+  EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyCount + candy(rig, "lollipop") - 1), 1);
+  snapshot = rig.plant().snapshot();
+  EXPECT_TRUE(snapshot.boxes.empty());
+  EXPECT_EQ(snapshot.counters.uploaded, 1U);
+  EXPECT_EQ(snapshot.counters.downloaded, 1U);
+  EXPECT_EQ(snapshot.counters.placed, 2U);
+  EXPECT_EQ(snapshot.counters.dropped, 0U);
+
+  std::vector<std::string> log;
+  for (const auto& e : rig.world().events().entries()) {
+    log.push_back(format(e));
+  }
+  return log;
+}
+
+bool logged(const std::vector<std::string>& log, std::string_view needle) {
+  return std::any_of(log.begin(), log.end(),
+                     [&](const auto& line) { return line.find(needle) != std::string::npos; });
+}
+
+TEST(PlantScenario, ABoxIsLoadedByTheSmartRobotAndALegacyRobotAndInspected) {
+  Rig rig;
+  const auto log = pack_one_box(rig);
+  EXPECT_TRUE(logged(log, "candy_placed scara-robot-1 box=1 slot=3 candy=gummy"))
+      << ::testing::PrintToString(log);
+  if (std::getenv("SF_PRINT_LOG") != nullptr) {
+    for (const auto& line : log) {
+      std::printf("%s\n", line.c_str());
+    }
+  }
+  EXPECT_TRUE(logged(log, "candy_placed denso box=1 slot=7 candy=lollipop"));
+  EXPECT_TRUE(logged(log, "box_inspected downloader box=1 (weight=57.5g gummy=1 lollipop=1)"));
+}
+
+TEST(PlantScenario, TheSameScenarioAndSeedGiveTheSameEventLog) {
+  Rig first(7);
+  Rig second(7);
+  const auto a = pack_one_box(first);
+  const auto b = pack_one_box(second);
+  EXPECT_GT(a.size(), 20U);
+  EXPECT_EQ(a, b);
+  // Another seed changes the machines' cycle times, and so the log's times.
+  Rig other(8);
+  EXPECT_NE(pack_one_box(other), a);
+}
+
+TEST(PlantScenario, TheToshibaLoadsThroughItsJobHandshake) {
+  Rig rig;
+  rig.hr("uploader", transfer_plc::kBoxType, 2);  // a large box
+  ASSERT_EQ(rig.run_job("uploader"), FaultCode::none);
+  rig.convey({"conveyor1", "conveyor3"}, 0);
+  rig.hr("toshiba", robot_controller::kCandyType, candy(rig, "toffee"));
+  rig.hr("toshiba", robot_controller::kSlot, 29);
+  rig.coil("toshiba", robot_controller::kStart, true);
+  // While the job runs the controller reports busy, then a part in the gripper.
+  EXPECT_TRUE(rig.run_until([&] { return rig.di("toshiba", robot_controller::kBusy); }, 100ms));
+  EXPECT_TRUE(rig.run_until([&] { return rig.di("toshiba", robot_controller::kPartPresent); }, 5s));
+  EXPECT_TRUE(rig.run_until([&] { return rig.di("toshiba", robot_controller::kDone); }, 10s));
+  rig.coil("toshiba", robot_controller::kStart, false);
+  rig.step();
+  EXPECT_TRUE(rig.di("toshiba", robot_controller::kReady));
+  EXPECT_EQ(rig.plant().snapshot().boxes.at(0).slots.at(29), "toffee");
+  // The joints it reports put the tool where it says it is.
+  const auto& spec = *rig.world().layout().robot("toshiba");
+  motion::ScaraJoints q{};
+  for (unsigned j = 0; j < 4; ++j) {
+    q[j] = static_cast<std::int16_t>(
+               rig.ir("toshiba", static_cast<std::uint16_t>(robot_controller::kJoint + j))) /
+           1000.0;
+  }
+  const auto tool = motion::scara_forward(spec.scara, q);
+  EXPECT_NEAR(tool.position.x * 1000.0,
+              static_cast<std::int16_t>(rig.ir("toshiba", robot_controller::kToolX)), 2.0);
+  EXPECT_NEAR(tool.position.y * 1000.0,
+              static_cast<std::int16_t>(rig.ir("toshiba", robot_controller::kToolY)), 2.0);
+}
+
+TEST(PlantScenario, AJobWithoutABoxOrWithAnUnknownCandyFaultsUntilReset) {
+  Rig rig;
+  rig.hr("toshiba", robot_controller::kCandyType, candy(rig, "toffee"));
+  EXPECT_EQ(rig.run_job("toshiba"), FaultCode::no_box);
+  EXPECT_TRUE(rig.di("toshiba", robot_controller::kFault));
+  // A start while faulted is ignored; fault_reset clears it.
+  rig.coil("toshiba", robot_controller::kStart, true);
+  rig.run_for(5ms);
+  EXPECT_FALSE(rig.di("toshiba", robot_controller::kBusy));
+  rig.coil("toshiba", robot_controller::kStart, false);
+  rig.pulse("toshiba", robot_controller::kFaultReset);
+  EXPECT_TRUE(rig.di("toshiba", robot_controller::kReady));
+  rig.hr("toshiba", robot_controller::kCandyType, 99);
+  EXPECT_EQ(rig.run_job("toshiba"), FaultCode::bad_job);
+  rig.hr("uploader", transfer_plc::kBoxType, 9);
+  EXPECT_EQ(rig.run_job("uploader"), FaultCode::bad_job);
+}
+
+}  // namespace
+}  // namespace sf::plant::testing

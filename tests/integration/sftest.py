@@ -148,6 +148,17 @@ class VethPair:
             run(["ip", "link", "set", ifname, "up"], ns=ns)
         return self
 
+    def add_pair(self, infix):
+        """A second veth pair between the same namespaces (a separate wire); returns its ends."""
+        tag = self.if_a[-6:]
+        if_a, if_b = f"{self.if_a[:-8]}{infix}a{tag}", f"{self.if_a[:-8]}{infix}b{tag}"
+        run(["ip", "link", "add", if_a, "type", "veth", "peer", "name", if_b])
+        run(["ip", "link", "set", if_a, "netns", self.ns_a])
+        run(["ip", "link", "set", if_b, "netns", self.ns_b])
+        run(["ip", "link", "set", if_a, "up"], ns=self.ns_a)
+        run(["ip", "link", "set", if_b, "up"], ns=self.ns_b)
+        return if_a, if_b
+
     def __exit__(self, *exc):
         for ns in (self.ns_a, self.ns_b):
             subprocess.run(["ip", "netns", "del", ns], capture_output=True)

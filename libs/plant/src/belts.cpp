@@ -125,18 +125,21 @@ void World::move_backward(std::size_t b, Box& box, double ds, const Box* behind)
 
 void World::move_belt(std::size_t b, double dt) {
   BeltState& belt = belts_[b];
-  if (!belt.motor || belt.speed_mps <= 0.0) {
-    return;
-  }
-  belt.odometer_m += belt.speed_mps * dt;
-  if (belt.jammed) {
-    return;  // the belt slips under the boxes
-  }
   std::vector<Box*> on;
   for (Box& box : boxes_) {
     if (box.belt == b && box.moved_step != steps_) {
       on.push_back(&box);
     }
+  }
+  const bool running = belt.motor && belt.speed_mps > 0.0;
+  if (running) {
+    belt.odometer_m += belt.speed_mps * dt;
+  }
+  if (!running || belt.jammed) {  // a jammed belt slips under its boxes
+    for (Box* box : on) {
+      note_station(*box, false);
+    }
+    return;
   }
   const double ds = belt.speed_mps * dt;
   if (!belt.reverse) {

@@ -9,18 +9,6 @@ namespace {
 constexpr double kParkAbove = 0.15;  // m above the first station
 }
 
-motion::ScaraJoints joints_from_counts(const std::array<double, kArmAxes>& counts) {
-  return {counts[0] / kCountsPerRadian, counts[1] / kCountsPerRadian, counts[2] / kCountsPerMetre,
-          counts[3] / kCountsPerRadian};
-}
-
-std::array<std::int32_t, kArmAxes> counts_from_joints(const motion::ScaraJoints& q) {
-  return {static_cast<std::int32_t>(std::lround(q[0] * kCountsPerRadian)),
-          static_cast<std::int32_t>(std::lround(q[1] * kCountsPerRadian)),
-          static_cast<std::int32_t>(std::lround(q[2] * kCountsPerMetre)),
-          static_cast<std::int32_t>(std::lround(q[3] * kCountsPerRadian))};
-}
-
 SmartRobotCell::SmartRobotCell(World& world, std::size_t robot, const Clock& clock, std::uint32_t serial)
     : robot_(robot), name_(world.layout().robots.at(robot).name) {
   const Layout& layout = world.layout();

@@ -81,34 +81,34 @@ TEST(PlantFaults, AnEmptyDispenserFailsTheLegacyRobotsPick) {
 
 TEST(PlantFaults, AnAxisFaultShowsInTheStatuswordAndErrorCodeAndIsReset) {
   Rig rig;
-  SmartArm arm(rig, "scara-robot-1");
+  RigArm arm(rig, "scara-robot-1");
   ASSERT_TRUE(rig.plant().inject(fault("axis-fault:scara-robot-1:1:0x5441")));
-  EXPECT_TRUE(rig.run_until([&] { return arm.axis(1).fault(); }, 100ms));
-  EXPECT_TRUE(arm.axis(1).statusword() & 0x0008);  // fault bit
-  EXPECT_TRUE(arm.axis(0).enabled());
-  auto code = arm.master().sdo_read<std::uint16_t>(0, 0x603F + 0x800, 0);
+  EXPECT_TRUE(rig.run_until([&] { return arm->axis(1).fault(); }, 100ms));
+  EXPECT_TRUE(arm->axis(1).statusword() & 0x0008);  // fault bit
+  EXPECT_TRUE(arm->axis(0).enabled());
+  auto code = arm->master().sdo_read<std::uint16_t>(0, 0x603F + 0x800, 0);
   ASSERT_TRUE(code) << code.error().describe();
   EXPECT_EQ(*code, 0x5441);
   ASSERT_TRUE(rig.plant().clear(fault("axis-fault:scara-robot-1:1")));
-  arm.axis(1).fault_reset();
-  arm.axis(1).enable();
-  EXPECT_TRUE(rig.run_until([&] { return arm.axis(1).enabled(); }, 200ms));
+  arm->axis(1).fault_reset();
+  arm->axis(1).enable();
+  EXPECT_TRUE(rig.run_until([&] { return arm->axis(1).enabled(); }, 200ms));
 }
 
 TEST(PlantFaults, ACutCableLosesTheSlaveAndItComesBackWhenRestored) {
   Rig rig;
-  SmartArm arm(rig, "scara-robot-1");
-  EXPECT_TRUE(arm.master().last_exchange().ok());
+  RigArm arm(rig, "scara-robot-1");
+  EXPECT_TRUE(arm->master().last_exchange().ok());
   ASSERT_TRUE(rig.plant().inject(fault("cable-cut:scara-robot-1")));
   rig.step();
-  EXPECT_FALSE(arm.master().last_exchange().ok());
-  EXPECT_EQ(arm.master().last_exchange().responding, 0);
+  EXPECT_FALSE(arm->master().last_exchange().ok());
+  EXPECT_EQ(arm->master().last_exchange().responding, 0);
   ASSERT_TRUE(rig.plant().clear(fault("cable-cut:scara-robot-1")));
   // The slave restarts in INIT; the master's maintenance brings it back to OP.
   EXPECT_TRUE(rig.run_until(
       [&] {
-        arm.master().maintain();
-        return arm.master().last_exchange().ok();
+        arm->master().maintain();
+        return arm->master().last_exchange().ok();
       },
       5s));
 }

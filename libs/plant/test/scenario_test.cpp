@@ -14,69 +14,31 @@ namespace sf::plant::testing {
 namespace {
 
 std::uint16_t candy(Rig& rig, std::string_view name) {
-  return static_cast<std::uint16_t>(*rig.world().layout().catalog.candy_index(name) + 1);
+  return line::testing::candy_number(rig.layout(), name);
 }
 
-// Runs the whole scripted sequence; returns the event log as text.
+// The whole scripted sequence (line::testing::pack_one_box), then what the
+// plant saw; returns the event log as text.
 std::vector<std::string> pack_one_box(Rig& rig) {
-  // Uploader: a small box onto conveyor1.
-  rig.hr("uploader", transfer_plc::kBoxType, 1);
-  EXPECT_EQ(rig.run_job("uploader"), FaultCode::none);
-  const auto id = static_cast<BoxId>(rig.ir("uploader", transfer_plc::kBoxId));
-  EXPECT_EQ(id, 1U);
-
-  // Belts: to SCARA Robot 1's station.
-  rig.convey({"conveyor1", "conveyor2"}, 0);
-  EXPECT_EQ(rig.ir("conveyor2", conveyor_plc::kStationBox), id);
-  EXPECT_TRUE(rig.di("conveyor2", conveyor_plc::kStationEye));
-
+  BoxId id = 0;
   {
-    // The smart robot: over the gummy dispenser, down, grip, up, over slot 3, down, release, up.
-    SmartArm arm(rig, "scara-robot-1");
-    EXPECT_TRUE(arm.inputs() & (1U << kDiBoxInPlace));
-    const motion::Vec3 pick = rig.world().layout().dispenser("scara1-gummy")->at;
-    arm.move_to(pick + motion::Vec3{0, 0, 0.05});
-    arm.move_to(pick);
-    arm.gripper(true);
-    EXPECT_TRUE(arm.inputs() & kDiPartPresent);
-    EXPECT_TRUE(arm.inputs() & kDiVacuumOk);
-    arm.move_to(pick + motion::Vec3{0, 0, 0.05});
-    const motion::Vec3 slot = rig.world().slot_position(*rig.world().box(id), 3);
-    arm.move_to(slot + motion::Vec3{0, 0, 0.05});
-    arm.move_to(slot + motion::Vec3{0, 0, 0.01});
-    arm.gripper(false);
-    EXPECT_FALSE(arm.inputs() & kDiPartPresent);
-    arm.move_to(slot + motion::Vec3{0, 0, 0.08});
+    RigArm arm(rig, "scara-robot-1");
+    auto packed = line::testing::pack_one_box(rig, *arm);
+    EXPECT_TRUE(packed) << packed.error().describe();
+    id = packed ? *packed : 0;
   }
-  auto snapshot = rig.plant().snapshot();
-  EXPECT_EQ(snapshot.boxes.at(0).slots.at(3), "gummy");
-
-  // Belts: to the DENSO arm; its controller loads a lollipop into slot 7.
-  rig.convey({"conveyor2", "conveyor4"}, 0);
-  rig.hr("denso", robot_controller::kCandyType, candy(rig, "lollipop"));
-  rig.hr("denso", robot_controller::kSlot, 7);
-  rig.hr("denso", robot_controller::kStation, 0);
-  EXPECT_TRUE(rig.di("denso", robot_controller::kBoxInPlace));
-  EXPECT_EQ(rig.run_job("denso"), FaultCode::none);
-  EXPECT_EQ(rig.ir("denso", robot_controller::kJobsDone), 1);
-  snapshot = rig.plant().snapshot();
-  EXPECT_EQ(snapshot.boxes.at(0).slots.at(7), "lollipop");
-
-  // Belts: to the downloader, which takes the box off and inspects it.
-  rig.convey({"conveyor4"}, 1);
-  EXPECT_EQ(rig.run_job("downloader"), FaultCode::none);
+  EXPECT_EQ(id, 1U);
   EXPECT_EQ(rig.ir("downloader", transfer_plc::kBoxId), id);
   EXPECT_EQ(rig.ir("downloader", transfer_plc::kWeight), 575);  // (40 + 2.5 + 15) g in 0.1 g
   EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyTotal), 2);
   EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyCount + candy(rig, "gummy") - 1), 1);
   EXPECT_EQ(rig.ir("downloader", transfer_plc::kCandyCount + candy(rig, "lollipop") - 1), 1);
-  snapshot = rig.plant().snapshot();
+  const auto snapshot = rig.plant().snapshot();
   EXPECT_TRUE(snapshot.boxes.empty());
   EXPECT_EQ(snapshot.counters.uploaded, 1U);
   EXPECT_EQ(snapshot.counters.downloaded, 1U);
   EXPECT_EQ(snapshot.counters.placed, 2U);
   EXPECT_EQ(snapshot.counters.dropped, 0U);
-
   std::vector<std::string> log;
   for (const auto& e : rig.world().events().entries()) {
     log.push_back(format(e));
@@ -101,6 +63,20 @@ TEST(PlantScenario, ABoxIsLoadedByTheSmartRobotAndALegacyRobotAndInspected) {
   }
   EXPECT_TRUE(logged(log, "candy_placed denso box=1 slot=7 candy=lollipop"));
   EXPECT_TRUE(logged(log, "box_inspected downloader box=1 (weight=57.5g gummy=1 lollipop=1)"));
+  // The order of what happened to the box.
+  std::vector<std::string> story;
+  for (const auto& line : log) {
+    for (const char* step :
+         {"box_uploaded", "candy_placed scara", "box_entered_station conveyor4/denso", "candy_placed denso",
+          "box_entered_station conveyor4/download", "box_inspected"}) {
+      if (line.find(step) != std::string::npos) {
+        story.emplace_back(step);
+      }
+    }
+  }
+  EXPECT_EQ(story, (std::vector<std::string>{"box_uploaded", "candy_placed scara",
+                                             "box_entered_station conveyor4/denso", "candy_placed denso",
+                                             "box_entered_station conveyor4/download", "box_inspected"}));
 }
 
 TEST(PlantScenario, TheSameScenarioAndSeedGiveTheSameEventLog) {

@@ -45,6 +45,7 @@ const std::string kSource = SF_SOURCE_DIR;
 const std::vector<std::string> kRules = {kSource + "/rules/rdfs.rules", kSource + "/rules/owl2rl.rules",
                                          kSource + "/rules/candy-factory.rules"};
 const std::string kOntology = kSource + "/ontology/candy-factory.ttl";
+const std::string kCatalog = kSource + "/ontology/prototype-line.ttl";  // the line's candy and box types
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -125,7 +126,7 @@ nlohmann::json ours(const std::string& data, int updates) {
   kb::Dictionary dict;
   const auto t0 = Clock::now();
   std::vector<kb::Triple> triples;
-  for (const std::string& f : {kOntology, data}) {
+  for (const std::string& f : {kOntology, kCatalog, data}) {
     auto doc = kb::read_rdf_file(dict, f);
     if (!doc) {
       std::cerr << doc.error().message << "\n";
@@ -252,9 +253,9 @@ int main(int argc, char** argv) {
     Measured b;
     if (jena) {
       b = command(fmt::format(
-          "java {} -cp '{}' JenaReason --data {} --data {} --rules {} --rules {} --rules {} --stats "
+          "java {} -cp '{}' JenaReason --data {} --data {} --data {} --rules {} --rules {} --rules {} --stats "
           "--updates {} --update-property {}temperature",
-          xmx.empty() ? std::string() : "-Xmx" + xmx, classpath, kOntology, data, kRules[0], kRules[1],
+          xmx.empty() ? std::string() : "-Xmx" + xmx, classpath, kOntology, kCatalog, data, kRules[0], kRules[1],
           kRules[2], updates, kb::vocab::kSf));
     }
     if (!a.ok) {

@@ -11,11 +11,12 @@ from sftest import binary, check, run, run_json
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ONTOLOGY = os.path.join(ROOT, "ontology", "candy-factory.ttl")
 LINE = os.path.join(ROOT, "ontology", "prototype-line.ttl")
+SNAPSHOT = os.path.join(ROOT, "ontology", "prototype-snapshot.ttl")
 RULES = [os.path.join(ROOT, "rules", r) for r in ("rdfs.rules", "owl2rl.rules", "candy-factory.rules")]
 work = tempfile.mkdtemp(prefix="kb_cli_")
 
 
-def reason(extra, data=(LINE,), rules=RULES, check_rc=True):
+def reason(extra, data=(LINE, SNAPSHOT), rules=RULES, check_rc=True):
     args = [binary(), "kb", "reason", "--ontology", ONTOLOGY]
     for d in data:
         args += ["--data", d]
@@ -32,7 +33,7 @@ def write(name, text):
 
 
 # --- violations of the prototype line (ontology/prototype-line.ttl), explained --------------
-out = run_json([binary(), "kb", "reason", "--ontology", ONTOLOGY, "--data", LINE] +
+out = run_json([binary(), "kb", "reason", "--ontology", ONTOLOGY, "--data", LINE, "--data", SNAPSHOT] +
                sum([["--rules", r] for r in RULES], []) + ["--json", "--explain"])
 by = {}
 for v in out["violations"]:
@@ -69,7 +70,7 @@ check("# rule temperatureHigh" in text and "# violation: <http://smartfactory.ex
 bad_ttl = write("bad.ttl", "@prefix sf: <http://smartfactory.example/ontology/candy#> .\n"
                            "sf:a sf:temperature \"41.5\"^^<http://www.w3.org/2001/XMLSchema#double> .\n"
                            "sf:b sf:temperature 12 ;\n  sf:state \"running .\n")
-r = reason([], data=(LINE, bad_ttl), check_rc=False)
+r = reason([], data=(LINE, SNAPSHOT, bad_ttl), check_rc=False)
 check(r.returncode != 0 and f"{bad_ttl}:4:" in r.stderr and r.stdout == "",
       f"malformed Turtle: exit {r.returncode}, error {r.stderr.strip()!r}, nothing on stdout")
 broken = "[broken: (?m sf:temperature ?t) greaterThan(?t) -> (?m sf:hot 'yes')]"

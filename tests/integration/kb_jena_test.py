@@ -26,7 +26,7 @@ data = os.path.join(work, "factory.nt")
 run([binary(), "kb", "generate", "--triples", os.environ.get("KB_JENA_TRIPLES", "20000"), "--seed", "7",
      "-o", data])
 inputs = [os.path.join(ROOT, "ontology", "candy-factory.ttl"), os.path.join(ROOT, "ontology", "prototype-line.ttl"),
-          data]
+          os.path.join(ROOT, "ontology", "prototype-snapshot.ttl"), data]
 rule_files = sorted(glob.glob(os.path.join(ROOT, "rules", "*.rules")))
 check(len(rule_files) >= 3, f"rule files to compare: {[os.path.basename(f) for f in rule_files]}")
 

@@ -17,7 +17,8 @@ PEER = os.path.join(ROOT, "tests", "peers", "knowledge", "nodeset_browse.mjs")
 work = tempfile.mkdtemp(prefix="kb_nodeset_")
 model = os.path.join(work, "candy.xml")
 run([binary(), "kb", "to-nodeset", os.path.join(ROOT, "ontology", "candy-factory.ttl"),
-     os.path.join(ROOT, "ontology", "prototype-line.ttl"), "-o", model])
+     os.path.join(ROOT, "ontology", "prototype-line.ttl"), os.path.join(ROOT, "ontology", "prototype-snapshot.ttl"),
+     "-o", model])
 check(os.path.getsize(model) > 10000, f"NodeSet2 written ({os.path.getsize(model)} bytes)")
 
 
@@ -65,13 +66,14 @@ def check_model(seen, who):
     robot = objs.get("ScaraRobot1", {})
     check(robot.get("type") == "ScaraRobot", f"{who}: ScaraRobot1 is a ScaraRobot")
     check(robot.get("values", {}).get("temperature") == 41.5, f"{who}: ScaraRobot1's temperature reads 41.5")
-    check("SmartController" in robot.get("components", []), f"{who}: SmartController is a component of ScaraRobot1")
+    check("ScaraRobot1Controller" in robot.get("components", []),
+          f"{who}: its smart controller is a component of ScaraRobot1")
     check(set(robot.get("references", {}).get("canPerform", [])) == {"PickAndPlace", "BoxLoading"},
           f"{who}: ScaraRobot1 canPerform references")
-    slave = objs.get("Slave1", {})
-    axes = [c for c in slave.get("components", []) if c.startswith("Axis")]
+    slave = objs.get("ScaraRobot1Slave", {})
+    axes = [c for c in slave.get("components", []) if c.startswith("ScaraRobot1Axis")]
     check(slave.get("type") == "EtherCATSlave" and len(axes) == 8, f"{who}: the EtherCAT slave has 8 axes: {axes}")
-    check(objs.get("Axis3", {}).get("values", {}).get("position") == 90.0, f"{who}: Axis3 position 90.0")
+    check(objs.get("ScaraRobot1Axis3", {}).get("values", {}).get("position") == 90.0, f"{who}: Axis3 position 90.0")
     check(objs.get("Denso", {}).get("type") == "ArticulatedRobot", f"{who}: the DENSO arm is an ArticulatedRobot")
     check("Box1" in objs and objs["Box1"]["type"] == "CandyBox", f"{who}: Box1 is a CandyBox")
 

@@ -39,7 +39,7 @@ void register_cloud(CLI::App& app, CommandResult& result);
 // `kb reason|to-nodeset|generate` (knowledge module).
 void register_kb(CLI::App& app, CommandResult& result);
 
-// `plant [check|registers|faults|snapshot|events]` (plant module).
+// `plant [check|registers|ontology|faults|snapshot|events]` (plant module).
 void register_plant(CLI::App& app, CommandResult& result);
 
 // `history query|series|events|retention|write` (historian module).

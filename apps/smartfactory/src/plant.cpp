@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "sf/line/layout.hpp"
+#include "sf/line/ontology.hpp"
 #include "sf/line/registers.hpp"
 #include "sf/plant/control.hpp"
 #include "sf/plant/host.hpp"
@@ -309,6 +310,21 @@ void register_tools(CLI::App& plant, CommandResult& result) {
               << sf::plant::markdown(sf::plant::transfer_plc::map());
     std::cout << "\n## Legacy robot controller\n\n"
               << sf::plant::markdown(sf::plant::robot_controller::map());
+  });
+  auto* ontology =
+      plant.add_subcommand("ontology",
+                           "Print the line's individuals for the candy-factory ontology (Turtle), derived "
+                           "from a layout; the default gives ontology/prototype-line.ttl");
+  ontology->add_option("--layout", layout_file, "Layout file (default: the built-in prototype line)");
+  ontology->callback([&result] {
+    auto layout = load(layout_file);
+    if (!layout) {
+      std::cerr << "plant: " << layout.error().message << "\n";
+      result.exit_code = kExitUsage;
+      return;
+    }
+    std::cout << sf::line::line_turtle(*layout,
+                                       layout_file.empty() ? "layouts/prototype-line.yaml" : layout_file);
   });
 }
 

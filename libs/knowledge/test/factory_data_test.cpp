@@ -40,8 +40,11 @@ TEST(FactoryData, ViolatesEachRequirementSomewhere) {
   }
   auto onto = read_rdf_file(d, root + "/ontology/candy-factory.ttl");
   ASSERT_TRUE(onto.ok()) << onto.error().message;
+  auto catalog = read_rdf_file(d, root + "/ontology/prototype-line.ttl");  // candy and box types
+  ASSERT_TRUE(catalog.ok()) << catalog.error().message;
   Reasoner r(d, std::move(rules), ReasonerOptions{10'000'000, [](const std::string&) {}});
   r.add_data(onto->triples);
+  r.add_data(catalog->triples);
   r.add_data(generate_factory_data(d, o));
   ASSERT_TRUE(r.run().ok());
   std::set<std::string> kinds;

@@ -1,6 +1,8 @@
 #include "layout_check.hpp"
 
+#include <algorithm>
 #include <deque>
+#include <iterator>
 #include <set>
 
 #include <fmt/format.h>
@@ -26,6 +28,18 @@ Status unique_names(const std::vector<T>& items, std::string_view what) {
     }
     if (!seen.insert(item.name).second) {
       return at(item.where, fmt::format("duplicate {} name '{}'", what, item.name));
+    }
+  }
+  return {};
+}
+
+Status check_capabilities(const std::vector<std::string>& capabilities, const std::string& where) {
+  for (const auto& c : capabilities) {
+    if (std::find(std::begin(kCapabilities), std::end(kCapabilities), c) == std::end(kCapabilities)) {
+      return at(where,
+                fmt::format("unknown capability '{}' (known: pick-and-place, box-loading, box-unloading, "
+                            "conveying, palletising)",
+                            c));
     }
   }
   return {};
@@ -88,6 +102,7 @@ Status check_belt(const Layout& layout, const BeltSpec& b, double longest_box) {
                       b.path.back().x, b.path.back().y, name, next->path.front().x, next->path.front().y));
     }
   }
+  SF_TRY(check_capabilities(b.capabilities, b.where));
   SF_TRY(unique_names(b.stations, "station"));
   for (const auto& s : b.stations) {
     if (!(s.at_m >= longest_box / 2.0 && s.at_m <= b.length() - longest_box / 2.0)) {
@@ -128,6 +143,7 @@ Status check_robot(const Layout& layout, const RobotSpec& r) {
   if (!(r.tool_speed_mps > 0.0 && r.tool_speed_mps <= kMaxSpeed)) {
     return at(r.where, fmt::format("tool_speed_mps {} is not in (0, {}]", r.tool_speed_mps, kMaxSpeed));
   }
+  SF_TRY(check_capabilities(r.capabilities, r.where));
   if (r.stations.empty()) {
     return at(r.where, "a robot needs at least one station");
   }
@@ -182,6 +198,7 @@ Status check_machine_names(const Layout& layout) {
 }
 
 Status check_transfer(const Layout& layout, const TransferSpec& t) {
+  SF_TRY(check_capabilities(t.capabilities, t.where));
   auto s = find_station(layout, t.station);
   if (!s) {
     return at(t.where, s.error().message);

@@ -143,8 +143,8 @@ Status parse_station(const Node& n, StationSpec& s) {
 }
 
 Status parse_belt(const Node& n, BeltSpec& b) {
-  SF_TRY(n.only_keys(
-      {"name", "label", "plc", "path", "height_m", "speed_mps", "max_speed_mps", "next", "stations"}));
+  SF_TRY(n.only_keys({"name", "label", "plc", "path", "height_m", "speed_mps", "max_speed_mps", "next",
+                      "stations", "capabilities"}));
   SF_TRY(read_name(n, b));
   SF_TRY(parse_plc(n, b.plc));
   auto path = n.child("path");
@@ -166,6 +166,7 @@ Status parse_belt(const Node& n, BeltSpec& b) {
   SF_TRY(n.read("speed_mps", b.speed_mps));
   SF_TRY(n.read("max_speed_mps", b.max_speed_mps));
   SF_TRY(n.read("next", b.next));
+  SF_TRY(n.read("capabilities", b.capabilities));
   auto stations = list<StationSpec>(n, "stations", parse_station);
   if (!stations) {
     return stations.error();
@@ -242,7 +243,7 @@ Status parse_arm(const Node& n, RobotSpec& r) {
 
 Status parse_robot(const Node& n, RobotSpec& r) {
   SF_TRY(n.only_keys({"name", "label", "kind", "vendor", "model", "base", "links_m", "z_stroke_m",
-                      "tool_speed_mps", "controller", "stations", "dispensers"}));
+                      "tool_speed_mps", "controller", "stations", "dispensers", "capabilities"}));
   SF_TRY(read_name(n, r));
   auto kind = robot_kind(n);
   if (!kind) {
@@ -267,6 +268,7 @@ Status parse_robot(const Node& n, RobotSpec& r) {
     r.controller.vendor = r.vendor;
   }
   SF_TRY(n.read("stations", r.stations));
+  SF_TRY(n.read("capabilities", r.capabilities));
   return n.read("dispensers", r.dispensers);
 }
 
@@ -276,7 +278,9 @@ Status parse_transfer(const Node& root, std::string_view key, TransferSpec& t) {
     return n.error();
   }
   t.where = n->where() + ": " + n->path();
-  SF_TRY(n->only_keys({"name", "label", "plc", "station", "cycle_s"}));
+  SF_TRY(n->only_keys({"name", "label", "plc", "station", "cycle_s", "capabilities"}));
+  t.capabilities = {key == "uploader" ? "box-loading" : "box-unloading"};
+  SF_TRY(n->read("capabilities", t.capabilities));
   t.name = std::string(key);
   SF_TRY(n->read("name", t.name));
   t.label = t.name;

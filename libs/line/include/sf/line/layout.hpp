@@ -83,6 +83,7 @@ struct BeltSpec {
   double speed_mps = 0.5;
   double max_speed_mps = 0.8;
   std::vector<std::string> next;  // belts the exit feeds; more than one = a diverter
+  std::vector<std::string> capabilities{"conveying"};
   std::vector<StationSpec> stations;
   [[nodiscard]] double length() const;
   // The point `s` metres along the path (clamped to its ends) and the
@@ -117,6 +118,7 @@ struct RobotSpec {
   PlcSpec controller;                       // legacy: its controller on Modbus
   std::vector<std::string> stations;        // "belt/station"
   std::vector<std::string> dispensers;
+  std::vector<std::string> capabilities{"pick-and-place"};
   [[nodiscard]] bool reaches(const Vec3& point) const;
   [[nodiscard]] bool legacy() const { return kind != RobotKind::smart_scara; }
 };
@@ -129,7 +131,13 @@ struct TransferSpec {
   PlcSpec plc;
   std::string station;  // "belt/station"
   double cycle_s = 1.5;
+  std::vector<std::string> capabilities;  // box-loading (uploader), box-unloading (downloader)
 };
+
+// What machines can do: the operations they bid on and the ontology's
+// sf:Capability individuals.
+inline constexpr std::string_view kCapabilities[] = {"pick-and-place", "box-loading", "box-unloading",
+                                                     "conveying", "palletising"};
 
 struct Layout {
   std::string line;

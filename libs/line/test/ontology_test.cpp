@@ -1,0 +1,53 @@
+#include "sf/line/ontology.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+namespace sf::line {
+namespace {
+
+TEST(OntologyTest, NamesBecomeCamelCaseLocalNames) {
+  EXPECT_EQ(iri_name("scara-robot-1"), "ScaraRobot1");
+  EXPECT_EQ(iri_name("conveyor2"), "Conveyor2");
+  EXPECT_EQ(iri_name("small-box"), "SmallBox");
+  EXPECT_EQ(iri_name("pick-and-place"), "PickAndPlace");
+  EXPECT_EQ(iri_name("a b/c<d>"), "ABCd");
+}
+
+TEST(OntologyTest, TheLineDescribesWhatTheLayoutSays) {
+  auto layout = default_layout();
+  ASSERT_TRUE(layout);
+  const std::string ttl = line_turtle(*layout, "layouts/prototype-line.yaml");
+  for (const char* expected :
+       {"sf:Gummy a sf:CandyType , owl:NamedIndividual ; rdfs:label \"gummy bear\" ; sf:unitWeight "
+        "\"2.5\"^^xsd:double .",
+        "sf:LargeBox a sf:BoxType , owl:NamedIndividual ; rdfs:label \"large box\" ; sf:capacity 30 .",
+        "p:ScaraRobot1 a sf:ScaraRobot , owl:NamedIndividual ; rdfs:label \"SCARA Robot 1\" ;",
+        "sf:canPerform sf:PickAndPlace , sf:BoxLoading ;", "p:Denso a sf:ArticulatedRobot",
+        "p:DensoGateway a sf:Gateway ;", "sf:connectedTo p:Conveyor2 , p:Conveyor3 .",
+        "p:ScaraRobot1DI3 a sf:DigitalInput ; sf:channel \"3\"^^xsd:int ; rdfs:label \"box in place at "
+        "conveyor2/scara1\" .",
+        "sf:length \"5.4\"^^xsd:double ;", "p:Uploader a sf:BoxUploader"}) {
+    EXPECT_NE(ttl.find(expected), std::string::npos) << expected;
+  }
+}
+
+// The committed ontology/prototype-line.ttl is the generator's output for the default layout.
+TEST(OntologyTest, TheCommittedPrototypeLineIsGeneratedFromTheDefaultLayout) {
+  const char* root = std::getenv("SF_SOURCE_DIR");
+  ASSERT_NE(root, nullptr);
+  std::ifstream in(std::string(root) + "/ontology/prototype-line.ttl");
+  ASSERT_TRUE(in);
+  std::stringstream committed;
+  committed << in.rdbuf();
+  auto layout = default_layout();
+  ASSERT_TRUE(layout);
+  EXPECT_EQ(committed.str(), line_turtle(*layout, "layouts/prototype-line.yaml"))
+      << "regenerate it: smartfactory plant ontology > ontology/prototype-line.ttl";
+}
+
+}  // namespace
+}  // namespace sf::line

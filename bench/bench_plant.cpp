@@ -1,9 +1,13 @@
-// The plant simulation's pace on a ManualClock: simulated seconds per wall
-// second for the default line with 20 boxes in flight (goal ≥ 200×) and for a
-// line ten times larger, with every controller's program and every hardware
-// face running (the peer is the wall clock itself: the figure is the ratio
-// to real time); memory per box and per machine from the heap.
-//   bench_plant [SIMULATED_SECONDS]
+// The plant simulation:
+//   - its pace on a ManualClock: simulated seconds per wall second for the
+//     default line with 20 boxes in flight (goal ≥ 200×) and for a line ten
+//     times larger, every controller's program and every hardware face
+//     running (the peer is the wall clock itself: the figure is the ratio to
+//     real time); memory per box and per machine from the heap;
+//   - the Modbus TCP round trip of a conveyor PLC with the running world
+//     behind it (the plant's physics loop shares its lock) next to a bare
+//     libmodbus server over the same registers, in the same run (goal ≤ 1.2×).
+//   bench_plant [SIMULATED_SECONDS] [MODBUS_REQUESTS]
 #include <malloc.h>
 
 #include <chrono>
@@ -14,7 +18,9 @@
 
 #include <fmt/format.h>
 
+#include "modbus_bench.hpp"
 #include "sf/core/clock.hpp"
+#include "sf/plant/host.hpp"
 #include "sf/plant/plant.hpp"
 
 namespace {
@@ -115,9 +121,42 @@ Figures run(const Layout& layout, int copies, int per_line, double seconds) {
 }
 
 void print(const char* name, const Figures& f, double goal) {
+  const std::string target = goal > 0 ? fmt::format("(goal >= {:.0f})", goal) : std::string(15, ' ');
+  std::printf("%-28s %5zu machines %5zu boxes  %8.0f sim s / wall s %s  %6.0f B/machine  %5.0f B/box\n", name,
+              f.machines, f.boxes, f.pace, target.c_str(), f.bytes_per_machine, f.bytes_per_box);
+}
+
+// A conveyor PLC of a plant running in real time (its physics loop scanning
+// the PLC every millisecond under the device's lock) against the bare server.
+int modbus_round_trip(const Layout& layout, std::size_t requests) {
+  sf::SteadyClock clock;
+  sf::plant::Plant plant(layout, clock);
+  sf::plant::HostOptions options;
+  options.ecat_port = 0;
+  auto host = sf::plant::PlantHost::start(plant, clock, options);
+  if (!host) {
+    std::fprintf(stderr, "bench_plant: %s\n", host.error().message.c_str());
+    return 1;
+  }
+  using sf::modbus::Client;
+  bool motor = false;
+  const std::vector<modbus_bench::Operation> operations{
+      {"read 32 inputs (eyes, jam)", [](Client& c) { return c.read_discrete_inputs(0, 32).ok(); }},
+      {"read 32 input registers", [](Client& c) { return c.read_input_registers(0, 32).ok(); }},
+      {"write 1 coil (motor)", [&motor](Client& c) { return c.write_single_coil(0, motor = !motor).ok(); }},
+  };
+  modbus_bench::Options o;
+  o.requests = requests;
   std::printf(
-      "%-28s %5zu machines %5zu boxes  %8.0f sim s / wall s  (goal >= %.0f)  %6.0f B/machine  %5.0f B/box\n",
-      name, f.machines, f.boxes, f.pace, goal, f.bytes_per_machine, f.bytes_per_box);
+      "\nModbus TCP round trip of conveyor2's PLC (the world behind it, physics at 1 kHz), one client, "
+      "%zu requests per server and kind\n",
+      o.requests);
+  const auto rows = modbus_bench::compare(*plant.plc("conveyor2"), operations, o);
+  if (rows.empty()) {
+    return 1;
+  }
+  modbus_bench::print(rows);
+  return 0;
 }
 
 }  // namespace
@@ -132,6 +171,6 @@ int main(int argc, char** argv) {
   std::printf("bench_plant: %.0f simulated seconds per run, 1 ms steps, every controller scanned each step\n",
               seconds);
   print("default line, 20 boxes", run(*layout, 1, 20, seconds), 200);
-  print("10x line, 200 boxes", run(replicate(*layout, 10), 10, 20, seconds / 10), 20);
-  return 0;
+  print("10x line, 200 boxes", run(replicate(*layout, 10), 10, 20, seconds / 10), 0);
+  return modbus_round_trip(*layout, argc > 2 ? std::strtoul(argv[2], nullptr, 10) : 20000);
 }

@@ -11,72 +11,94 @@ namespace sf::plant {
 
 namespace {
 constexpr double kEpsilon = 1e-9;
-}
+constexpr double kIndexSlack = 0.01;  // m: more than a box moves in one step (10 m/s)
+}  // namespace
 
 double World::box_length(const Box& box) const {
   return layout_.catalog.box_types[box.type].size_m.x;
 }
 
 std::optional<std::size_t> World::exit_of(std::size_t b) const {
-  const auto& next = layout_.belts[b].next;
+  const auto& next = next_[b];
   if (next.empty()) {
     return std::nullopt;
   }
-  return layout_.belt_index(next[std::min(belts_[b].exit, next.size() - 1)]);
+  return next[std::min(belts_[b].exit, next.size() - 1)];
 }
 
 bool World::crossing(const Box& box) const {
-  return box.s > layout_.belts[box.belt].length() - box_length(box) / 2.0 + kEpsilon;
+  return box.s > length_[box.belt] - box_length(box) / 2.0 + kEpsilon;
+}
+
+// Calls `hit` for the boxes that may be on belt b within [lo, hi] or crossing
+// onto it: those indexed on b in that window (the index is sorted by s at the
+// start of the step; boxes move less than kIndexSlack within a step and never
+// overtake) and the front box of each belt feeding b (a box that crossed
+// since the index was built is found there). The checks read where each box
+// is now. False as soon as `hit` is true.
+template <typename F>
+bool World::none_near(std::size_t b, double lo, double hi, F hit) const {
+  const auto& list = on_belt_[b];
+  auto it = std::lower_bound(list.begin(), list.end(), lo - kIndexSlack,
+                             [&](std::size_t i, double v) { return boxes_[i].s < v; });
+  for (; it != list.end() && boxes_[*it].s <= hi + kIndexSlack; ++it) {
+    if (hit(boxes_[*it])) {
+      return false;
+    }
+  }
+  for (std::size_t f : feeders_[b]) {
+    if (!on_belt_[f].empty() && hit(boxes_[on_belt_[f].back()])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void World::reindex() {
+  for (auto& list : on_belt_) {
+    list.clear();
+  }
+  for (std::size_t i = 0; i < boxes_.size(); ++i) {
+    on_belt_[boxes_[i].belt].push_back(i);
+  }
+  for (auto& list : on_belt_) {
+    std::sort(list.begin(), list.end(),
+              [&](std::size_t x, std::size_t y) { return boxes_[x].s < boxes_[y].s; });
+  }
 }
 
 bool World::entry_free(std::size_t b, double front, BoxId except) const {
-  for (const Box& o : boxes_) {
+  return none_near(b, -max_half_, front + max_half_, [&](const Box& o) {
     if (o.id == except) {
-      continue;
-    }
-    if (o.belt == b && o.s - box_length(o) / 2.0 < front - kEpsilon) {
       return false;
     }
-    if (o.belt != b && crossing(o) && exit_of(o.belt) == b) {
-      return false;
-    }
-  }
-  return true;
+    return (o.belt == b && o.s - box_length(o) / 2.0 < front - kEpsilon) ||
+           (o.belt != b && crossing(o) && exit_of(o.belt) == b);
+  });
 }
 
 bool World::span_free(std::size_t b, double s, double half, BoxId except) const {
-  for (const Box& o : boxes_) {
+  return none_near(b, s - half - max_half_, s + half + max_half_, [&](const Box& o) {
     if (o.id == except) {
-      continue;
-    }
-    if (o.belt == b && std::abs(o.s - s) < half + box_length(o) / 2.0 - kEpsilon) {
       return false;
     }
-    if (o.belt != b && crossing(o) && exit_of(o.belt) == b &&
-        s - half < o.s + box_length(o) / 2.0 - layout_.belts[o.belt].length()) {
-      return false;
-    }
-  }
-  return true;
+    return (o.belt == b && std::abs(o.s - s) < half + box_length(o) / 2.0 - kEpsilon) ||
+           (o.belt != b && crossing(o) && exit_of(o.belt) == b &&
+            s - half < o.s + box_length(o) / 2.0 - length_[o.belt]);
+  });
 }
 
 bool World::covered(std::size_t b, double s) const {
-  for (const Box& o : boxes_) {
+  return !none_near(b, s - max_half_, s + max_half_, [&](const Box& o) {
     const double half = box_length(o) / 2.0;
-    if (o.belt == b && std::abs(o.s - s) <= half) {
-      return true;
-    }
-    if (o.belt != b && crossing(o) && exit_of(o.belt) == b &&
-        s <= o.s + half - layout_.belts[o.belt].length()) {
-      return true;
-    }
-  }
-  return false;
+    return (o.belt == b && std::abs(o.s - s) <= half) ||
+           (o.belt != b && crossing(o) && exit_of(o.belt) == b && s <= o.s + half - length_[o.belt]);
+  });
 }
 
 void World::move_forward(std::size_t b, Box& box, double ds, const Box* ahead) {
   const BeltSpec& spec = layout_.belts[b];
-  const double length = spec.length();
+  const double length = length_[b];
   const double half = box_length(box) / 2.0;
   double limit = box.s + ds;
   for (std::size_t k = 0; k < spec.stations.size(); ++k) {
@@ -125,10 +147,11 @@ void World::move_backward(std::size_t b, Box& box, double ds, const Box* behind)
 
 void World::move_belt(std::size_t b, double dt) {
   BeltState& belt = belts_[b];
-  std::vector<Box*> on;
-  for (Box& box : boxes_) {
-    if (box.belt == b && box.moved_step != steps_) {
-      on.push_back(&box);
+  std::vector<Box*>& on = moving_;
+  on.clear();
+  for (std::size_t i : on_belt_[b]) {
+    if (boxes_[i].belt == b && boxes_[i].moved_step != steps_) {
+      on.push_back(&boxes_[i]);
     }
   }
   const bool running = belt.motor && belt.speed_mps > 0.0;
@@ -191,7 +214,7 @@ bool World::entry_eye(std::size_t b) const {
 }
 
 bool World::exit_eye(std::size_t b) const {
-  return belts_[b].jammed || covered(b, layout_.belts[b].length() - kEyeInset);
+  return belts_[b].jammed || covered(b, length_[b] - kEyeInset);
 }
 
 bool World::station_eye(std::size_t b, std::size_t station) const {
@@ -200,12 +223,14 @@ bool World::station_eye(std::size_t b, std::size_t station) const {
 
 const Box* World::box_in_place(std::size_t b, std::size_t station) const {
   const double at = layout_.belts[b].stations.at(station).at_m;
-  for (const Box& box : boxes_) {
-    if (box.belt == b && std::abs(box.s - at) <= kInPlaceTolerance) {
-      return &box;
+  const Box* found = nullptr;
+  (void)none_near(b, at - kInPlaceTolerance, at + kInPlaceTolerance, [&](const Box& o) {
+    if (o.belt == b && std::abs(o.s - at) <= kInPlaceTolerance) {
+      found = &o;
     }
-  }
-  return nullptr;
+    return found != nullptr;
+  });
+  return found;
 }
 
 }  // namespace sf::plant

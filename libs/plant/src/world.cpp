@@ -24,6 +24,21 @@ World::World(Layout layout, std::uint64_t seed) : layout_(std::move(layout)), rn
   for (const auto& d : layout_.dispensers) {
     stock_.push_back(d.stock);
   }
+  for (const auto& type : layout_.catalog.box_types) {
+    max_half_ = std::max(max_half_, type.size_m.x / 2.0);
+  }
+  on_belt_.resize(layout_.belts.size());
+  feeders_.resize(layout_.belts.size());
+  next_.resize(layout_.belts.size());
+  for (std::size_t b = 0; b < layout_.belts.size(); ++b) {
+    length_.push_back(layout_.belts[b].length());
+    for (const auto& next : layout_.belts[b].next) {
+      if (auto n = layout_.belt_index(next)) {
+        feeders_[*n].push_back(b);
+        next_[b].push_back(*n);
+      }
+    }
+  }
   for (const auto& r : layout_.robots) {
     Tool tool;
     const motion::Vec3 base = r.kind == RobotKind::legacy_articulated ? r.articulated.base : r.scara.base;
@@ -47,6 +62,7 @@ void World::step() {
   for (std::size_t b = 0; b < belts_.size(); ++b) {
     move_belt(b, dt);
   }
+  reindex();
 }
 
 void World::record(EventKind kind, std::string where, BoxId box, int slot, std::string candy,
@@ -106,6 +122,7 @@ Result<BoxId> World::place_box(std::size_t type, const StationRef& at, std::stri
   box.station = static_cast<int>(at.station);
   box.moved_step = steps_;
   boxes_.push_back(std::move(box));
+  reindex();
   ++counters_.uploaded;
   record(EventKind::box_uploaded, std::string(by), boxes_.back().id, -1, {},
          layout_.catalog.box_types[type].name);
@@ -140,6 +157,7 @@ Result<Inspection> World::take_box(const StationRef& at, std::string_view by) {
   }
   record(EventKind::box_inspected, std::string(by), it->id, -1, {}, counts);
   boxes_.erase(it);
+  reindex();
   ++counters_.downloaded;
   return inspection;
 }
@@ -151,6 +169,7 @@ Status World::drop_box(BoxId id) {
   }
   record(EventKind::box_lost, layout_.belts[it->belt].name, id, -1, {}, "fell off the belt");
   boxes_.erase(it);
+  reindex();
   ++counters_.boxes_lost;
   return {};
 }

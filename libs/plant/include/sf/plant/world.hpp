@@ -143,6 +143,12 @@ class World {
   [[nodiscard]] bool entry_free(std::size_t b, double front, BoxId except) const;
   [[nodiscard]] bool span_free(std::size_t b, double s, double half, BoxId except) const;
   [[nodiscard]] bool covered(std::size_t b, double s) const;
+  // False as soon as `hit` is true for a box on belt b near [lo, hi] or at
+  // the front of a belt feeding it.
+  template <typename F>
+  [[nodiscard]] bool none_near(std::size_t b, double lo, double hi, F hit) const;
+  // on_belt_ from scratch: after each step and whenever boxes come or go.
+  void reindex();
   [[nodiscard]] double box_length(const Box& box) const;
   void pick(std::size_t robot);
   void release(std::size_t robot);
@@ -155,6 +161,12 @@ class World {
   std::uint64_t steps_ = 0;
   std::vector<BeltState> belts_;
   std::vector<Box> boxes_;
+  std::vector<std::vector<std::size_t>> on_belt_;  // indexes into boxes_, per belt
+  std::vector<std::vector<std::size_t>> feeders_;  // belts whose `next` includes the belt
+  std::vector<std::vector<std::size_t>> next_;     // the layout's `next` as belt indexes
+  std::vector<double> length_;                     // of each belt's path
+  double max_half_ = 0.0;                          // half the longest box type
+  std::vector<Box*> moving_;                       // move_belt's scratch list
   std::vector<int> stock_;
   std::vector<Tool> tools_;
   BoxId next_box_ = 1;

@@ -1,4 +1,4 @@
-// End-to-end latency of the cloud gateway (issue 8): S OPC UA servers with V variables each, every
+// End-to-end latency of the cloud gateway (paper §VI, Fig. 7): S OPC UA servers with V variables each, every
 // variable changing every I ms; the gateway subscribes to all of them and writes to the historian.
 // For every sample, two latencies from the moment the server changed the value (its source
 // timestamp):

@@ -1,6 +1,6 @@
-// OPC UA security cost (issue 6): secure channel + session set-up time and Read throughput under
-// SignAndEncrypt relative to None, for our server next to a node-opcua server measured in the
-// same run with the same client (sf::opcua::Client):
+// OPC UA security cost (OPC 10000-2 §4, OPC 10000-6 §6.7): secure channel + session set-up time and Read
+// throughput under SignAndEncrypt relative to None, for our server next to a node-opcua server measured in
+// the same run with the same client (sf::opcua::Client):
 //
 //   ours:       smartfactory opcua server --demo-model --security none,sign,encrypt --pki TMP/server
 //   node-opcua: node tests/peers/opcua/node_server.mjs 0 --secure TMP/node

@@ -1,5 +1,5 @@
-// The server's message path on arbitrary input (issue 5: "fuzz targets for the decoder and the
-// server message path"): the bytes are decoded as a service message exactly as the transport
+// The server's message path on arbitrary input (OPC 10000-6 §6.7.1, the message body after the
+// secure channel layer): the bytes are decoded as a service message exactly as the transport
 // does, and when they decode, the request is run through the Dispatcher — with the session
 // token of an open, activated session patched in, so the fuzzer reaches every service (Read,
 // Write, Browse, Call, subscriptions, Publish) and not only the session check.

@@ -550,7 +550,7 @@ json bench_json(const cnp::BenchResult& r) {
   json j{{"contractors", r.contractors},
          {"negotiations", r.negotiations},
          {"processes", r.processes},
-         {"contractor_sched", cnp::to_string(r.contractor_scheduling)},
+         {"contractor_sched", sf::to_string(r.contractor_scheduling)},
          {"latency_us",
           {{"p50", r.latency.p50_us},
            {"p90", r.latency.p90_us},

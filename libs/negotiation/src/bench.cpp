@@ -13,7 +13,7 @@
 
 #include <fmt/format.h>
 
-#include "bench_child.hpp"
+#include "sf/core/process.hpp"
 #include "sf/dds/config.hpp"
 #include "sf/negotiation/agents.hpp"
 
@@ -24,7 +24,17 @@ using namespace std::chrono_literals;
 
 constexpr dds::DomainId kDdsperfDomain = 231;
 
-using Child = detail::BenchChild;
+// A process of the benchmark: `args` with `env` added, stdout and stderr to `output`.
+Result<Process> spawn(std::vector<std::string> args, std::vector<std::string> env, const std::string& output,
+                      SchedulingPolicy policy = SchedulingPolicy::inherit) {
+  ProcessOptions o;
+  o.argv = std::move(args);
+  o.env = std::move(env);
+  o.out = Stdio::file(output);
+  o.err = Stdio::to_stdout();
+  o.scheduling = policy;
+  return Process::spawn(std::move(o));
+}
 
 // The CPU time of all `pids`; nullopt if one cannot be read.
 std::optional<std::chrono::nanoseconds> cpu_time_of(const std::vector<pid_t>& pids) {
@@ -169,7 +179,7 @@ class Driver {
         machines_.push_back(std::move(*m));
         continue;
       }
-      auto child = Child::spawn(
+      auto child = spawn(
           {options_.agent_binary,
            "--log-level",
            "warn",
@@ -300,7 +310,7 @@ class Driver {
   DdsSettings settings_;
   SteadyClock& clock_ = SteadyClock::instance();
   dds::Executor executor_;
-  std::vector<Child> children_;  // stopped last (declared first)
+  std::vector<Process> children_;  // stopped last (declared first)
   std::unique_ptr<ProductEndpoints> endpoints_;
   std::unique_ptr<Manager> manager_;
   std::vector<std::unique_ptr<MachineAgent>> machines_;
@@ -310,10 +320,6 @@ class Driver {
 };
 
 }  // namespace
-
-std::string_view to_string(SchedulingPolicy policy) {
-  return policy == SchedulingPolicy::batch ? "batch" : "normal";
-}
 
 LatencyStats latency_stats(std::vector<double> samples) {
   LatencyStats s;
@@ -346,11 +352,11 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   const auto secs = options.ddsperf_duration.count();
   const auto domain = std::to_string(kDdsperfDomain);
   const std::size_t pongs = std::max<std::size_t>(1, options.contractors);
-  std::vector<Child> pong_processes;
+  std::vector<Process> pong_processes;
   for (std::size_t i = 0; i < pongs; ++i) {
-    auto pong = Child::spawn({options.ddsperf_binary, "-i", domain, "-D",
-                              std::to_string(secs + 40 + static_cast<long>(pongs)), "pong"},
-                             env, "/dev/null", options.contractor_scheduling);
+    auto pong = spawn({options.ddsperf_binary, "-i", domain, "-D",
+                       std::to_string(secs + 40 + static_cast<long>(pongs)), "pong"},
+                      env, "/dev/null", options.contractor_scheduling);
     if (!pong) {
       return pong.error();
     }
@@ -360,10 +366,9 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   // ping starts once it sees every pong's participant; many take a while to be discovered on a
   // busy host.
   const auto initwait = 20 + static_cast<long>(pongs);
-  auto ping =
-      Child::spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs), "-Q",
-                    fmt::format("minmatch:{}", pongs), "-Q", fmt::format("initwait:{}", initwait), "ping"},
-                   env, out);
+  auto ping = spawn({options.ddsperf_binary, "-i", domain, "-D", std::to_string(secs), "-Q",
+                     fmt::format("minmatch:{}", pongs), "-Q", fmt::format("initwait:{}", initwait), "ping"},
+                    env, out);
   if (!ping) {
     return ping.error();
   }
@@ -372,10 +377,10 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
     pong_pids.push_back(pong.pid());
   }
   const auto pongs_cpu0 = cpu_time_of(pong_pids);
-  ping->wait(std::chrono::seconds{secs + initwait + 10});
+  const auto ping_status = ping->wait(std::chrono::seconds{secs + initwait + 10});
   const auto pongs_cpu1 = cpu_time_of(pong_pids);
   for (auto& pong : pong_processes) {
-    pong.stop();
+    pong.terminate(5s);
   }
   auto stats = parse_ddsperf_output(out);
   std::remove(out.c_str());
@@ -385,9 +390,9 @@ Result<DdsperfResult> run_ddsperf(const BenchOptions& options) {
   DdsperfResult result{*stats, std::nullopt};
   // The CPU time includes discovery and ping's initial wait, a small share of a run of seconds.
   const auto round_trips = static_cast<double>(stats->pings);
-  if (pongs_cpu0 && pongs_cpu1 && ping->cpu_at_exit() && round_trips > 0) {
+  if (pongs_cpu0 && pongs_cpu1 && ping_status && round_trips > 0) {
     result.cpu_us_per_round_trip =
-        microseconds(*pongs_cpu1 - *pongs_cpu0 + *ping->cpu_at_exit()) / round_trips;
+        microseconds(*pongs_cpu1 - *pongs_cpu0 + ping_status->cpu_time) / round_trips;
   }
   return result;
 }

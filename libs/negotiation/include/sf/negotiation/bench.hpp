@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 
+#include "sf/core/process.hpp"
 #include "sf/core/result.hpp"
 #include "sf/negotiation/dds_transport.hpp"
 
@@ -25,9 +26,7 @@ namespace sf::negotiation {
 // fan-out's time includes the work of every contractor woken so far; in the factory each machine
 // runs on its own controller. SCHED_BATCH processes do not preempt on wake-up (sched(7)): they
 // run on another core or when the manager's thread blocks. Applied alike to both sides.
-enum class SchedulingPolicy { normal, batch };
-// "normal", "batch"
-std::string_view to_string(SchedulingPolicy policy);
+using SchedulingPolicy = sf::SchedulingPolicy;
 
 struct BenchOptions {
   std::size_t contractors = 4;

@@ -14,6 +14,8 @@
 
 #include <fmt/format.h>
 
+#include "sf/core/text.hpp"
+#include "sf/net/tcp.hpp"
 #include "sf/opcua/security/pki.hpp"
 #include "sf/opcua/security/policies.hpp"
 #include "sf/opcua/security/users.hpp"
@@ -26,39 +28,19 @@ namespace ua = sf::opcua;
 namespace sec = sf::opcua::security;
 namespace fs = std::filesystem;
 
-std::string host_name() {
-  std::array<char, 256> name{};
-  if (gethostname(name.data(), name.size() - 1) != 0 || name[0] == '\0') {
-    return "localhost";
-  }
-  return name.data();
-}
-
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
 bool is_ip(const std::string& text) {
   std::array<unsigned char, 16> buffer{};
   return inet_pton(AF_INET, text.c_str(), buffer.data()) == 1 ||
          inet_pton(AF_INET6, text.c_str(), buffer.data()) == 1;
 }
 
+// The non-empty items of a comma-separated list, in lower case.
 std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const auto comma = text.find(',', start);
-    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+  for (const auto item : split(text, ',')) {
     if (!item.empty()) {
       out.push_back(lower(item));
     }
-    if (comma == std::string::npos) {
-      break;
-    }
-    start = comma + 1;
   }
   return out;
 }
@@ -139,7 +121,7 @@ std::string default_pki_dir() {
 }
 
 opcua::security::CertificateRequest own_certificate_request(const std::string& extra_host) {
-  const std::string host = host_name();
+  const std::string host = sf::net::host_name();
   sec::CertificateRequest request;
   request.application_uri = fmt::format("urn:{}:smartfactory", host);
   request.common_name = fmt::format("smartfactory@{}", host);

@@ -3,26 +3,17 @@
 #include "sf/ethercat/slave/segment.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 
 #include <fmt/format.h>
+
+#include "sf/core/text.hpp"
 
 namespace sf::ethercat::slave {
 
 namespace {
 
 constexpr std::size_t kMaxSlaves = 0xFFFF;  // auto-increment addresses are 16 bits
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())) != 0) {
-    s.remove_prefix(1);
-  }
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())) != 0) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
 
 Result<SegmentSpecItem> parse_item(std::string_view item, std::size_t n) {
   const auto where = [n](std::string_view what) {

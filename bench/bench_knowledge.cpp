@@ -30,6 +30,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "sf/bench/percentile.hpp"
 #include "sf/core/process.hpp"
 #include "sf/knowledge/factory_data.hpp"
 #include "sf/knowledge/rdf_io.hpp"
@@ -102,14 +103,6 @@ std::vector<std::string> self(std::initializer_list<std::string> args) {
   return argv;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) {
-    return 0;
-  }
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
-
 nlohmann::json ours(const std::string& data, int updates) {
   kb::Dictionary dict;
   const auto t0 = Clock::now();
@@ -160,8 +153,8 @@ nlohmann::json ours(const std::string& data, int updates) {
           {"reason_ms", reason_ms},
           {"inferred", stats.inferred},
           {"input_triples", stats.asserted},
-          {"update_median_ms", percentile(latencies, 0.5)},
-          {"update_p99_ms", percentile(latencies, 0.99)}};
+          {"update_median_ms", sf::bench::percentile(latencies, 0.5)},
+          {"update_p99_ms", sf::bench::percentile(latencies, 0.99)}};
 }
 
 std::string jena_classpath(const std::string& dir) {

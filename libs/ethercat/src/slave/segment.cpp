@@ -28,9 +28,8 @@ Result<SegmentSpecItem> parse_item(std::string_view item, std::size_t n) {
   if (kind.empty()) {
     return where("missing device kind");
   }
-  if (std::find(device_kinds().begin(), device_kinds().end(), kind) == device_kinds().end()) {
-    return where(
-        fmt::format("unknown device kind \"{}\" (known: {})", kind, fmt::join(device_kinds(), ", ")));
+  if (auto model = find_device_model(kind); !model) {
+    return where(model.error().message);
   }
   out.kind = std::string(kind);
   if (colon != std::string_view::npos) {

@@ -32,7 +32,7 @@
 
 #include "sf/bench/percentile.hpp"
 #include "sf/core/process.hpp"
-#include "sf/knowledge/factory_data.hpp"
+#include "sf/examples/factory_data.hpp"
 #include "sf/knowledge/rdf_io.hpp"
 #include "sf/knowledge/reasoner.hpp"
 #include "sf/knowledge/vocab.hpp"
@@ -177,11 +177,12 @@ std::string jena_classpath(const std::string& dir) {
 int child_main(const std::vector<std::string>& args) {
   if (args.size() == 3 && args[0] == "--child-generate") {
     kb::Dictionary dict;
-    kb::FactoryDataOptions o;
+    sf::examples::FactoryDataOptions o;
     o.target_triples = std::stoul(args[1]);
     o.seed = 7;
     std::ofstream out(args[2]);
-    const bool ok = kb::write_rdf(out, dict, kb::generate_factory_data(dict, o), kb::Syntax::ntriples).ok();
+    const bool ok =
+        kb::write_rdf(out, dict, sf::examples::generate_factory_data(dict, o), kb::Syntax::ntriples).ok();
     std::cout << nlohmann::json{{"ok", ok}}.dump() << "\n";
     return ok ? 0 : 1;
   }

@@ -8,7 +8,7 @@
 #include <memory>
 #include <type_traits>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/server/dispatcher.hpp"
 #include "sf/opcua/server/ns0.hpp"
 
@@ -42,7 +42,7 @@ struct World {
   World() {
     (void)build_namespace0(space);
     space.add_namespace("urn:smartfactory:fuzz");
-    (void)add_demo_nodes(space);
+    (void)sf::examples::add_demo_nodes(space);
     dispatcher = std::make_unique<Dispatcher>(space, clock, ServerIdentity{}, SessionLimits{},
                                               SubscriptionLimits{}, OperationLimits{});
   }

@@ -18,11 +18,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "sf/bench/cnp.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/core/log.hpp"
 #include "sf/dds/introspection.hpp"
 #include "sf/negotiation/agents.hpp"
-#include "sf/negotiation/bench.hpp"
 
 namespace sf::app {
 namespace {

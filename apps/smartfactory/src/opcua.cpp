@@ -22,8 +22,8 @@
 #include "opcua_security.hpp"
 #include "opcua_values.hpp"
 #include "sf/core/log.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/client/client.hpp"
-#include "sf/opcua/server/demo_model.hpp"
 #include "sf/opcua/server/server.hpp"
 
 namespace sf::app {
@@ -68,9 +68,9 @@ int run_server(const ServerOptions& o) {
   std::cerr << "opcua server: " << *security << "\n";
   ua::server::Server server(config);
   if (o.demo_model) {
-    ua::server::DemoModelOptions demo;
+    examples::DemoModelOptions demo;
     demo.bench_variables = o.bench_variables;
-    if (auto st = ua::server::add_demo_model(server, demo); !st) {
+    if (auto st = examples::add_demo_model(server, demo); !st) {
       std::cerr << "opcua server: demo model: " << st.error().describe() << "\n";
       return kExitFailure;
     }

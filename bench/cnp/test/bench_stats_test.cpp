@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "sf/negotiation/bench.hpp"
+#include "sf/bench/cnp.hpp"
 
 namespace sf::negotiation {
 namespace {

@@ -1,6 +1,6 @@
 // The demo model's benchmark variables (DemoModelOptions::bench_variables, `smartfactory opcua
 // server --bench-variables N`): Demo/Bench/Demo.Bench.<i>, Double, read-only, all changing.
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +13,11 @@ namespace sf::opcua::server {
 namespace {
 
 using namespace std::chrono_literals;
+using examples::add_bench_variables;
+using examples::add_demo_model;
+using examples::add_demo_nodes;
+using examples::DemoModelOptions;
+using examples::kDemoNamespaceUri;
 
 NodeId bench_id(std::uint16_t ns, int i) {
   return NodeId(ns, String("Demo.Bench." + std::to_string(i)));

@@ -1,10 +1,13 @@
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 
 #include <cmath>
 
 #include "sf/opcua/status_codes.hpp"
 
-namespace sf::opcua::server {
+namespace sf::examples {
+
+using namespace opcua;          // NOLINT(google-build-using-namespace): the model is built of
+using namespace opcua::server;  // NOLINT(google-build-using-namespace): OPC UA nodes throughout
 
 namespace {
 
@@ -110,14 +113,15 @@ Status add_demo_model(Server& server, DemoModelOptions options) {
   server.with_address_space([&server, options](AddressSpace& space) {
     const NodeId temperature(*space.namespace_index(kDemoNamespaceUri), String("Demo.Temperature"));
     auto step = std::make_shared<std::uint64_t>(0);
-    server.loop().add_periodic(options.temperature_period, [&space, temperature, step] {
+    const Clock& clock = server.loop().clock();
+    server.loop().add_periodic(options.temperature_period, [&space, &clock, temperature, step] {
       ++*step;
       DataValue value(Variant(temperature_at(*step)));
-      value.source_timestamp = DateTime::from_system_clock(std::chrono::system_clock::now());
+      value.source_timestamp = DateTime::from_system_clock(clock.utc_now());
       (void)space.set_value(temperature, std::move(value));
     });
   });
   return {};
 }
 
-}  // namespace sf::opcua::server
+}  // namespace sf::examples

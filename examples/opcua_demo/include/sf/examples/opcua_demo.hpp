@@ -1,4 +1,5 @@
-// The demo information model of issue 5 (`smartfactory opcua server --demo-model`): namespace
+// The demo information model (`smartfactory opcua server --demo-model`, the node-opcua peer
+// tests/peers/opcua/node_server.mjs has the same): namespace
 // urn:smartfactory:demo with the object Demo under Objects holding
 //   Temperature  Double, read-only, a new value every 100 ms
 //   Counter      Int32, read-write
@@ -16,7 +17,7 @@
 #include "sf/core/result.hpp"
 #include "sf/opcua/server/server.hpp"
 
-namespace sf::opcua::server {
+namespace sf::examples {
 
 inline constexpr std::string_view kDemoNamespaceUri = "urn:smartfactory:demo";
 
@@ -27,15 +28,15 @@ struct DemoModelOptions {
 };
 
 // Adds the model and starts the Temperature timer on the server's loop.
-Status add_demo_model(Server& server, DemoModelOptions options = {});
+Status add_demo_model(opcua::server::Server& server, DemoModelOptions options = {});
 
 // The model without the timer (for tests of the address space alone).
-Status add_demo_nodes(AddressSpace& space);
+Status add_demo_nodes(opcua::server::AddressSpace& space);
 
 // The Bench folder under Demo with `count` variables at step 0, without the timer (after
 // add_demo_nodes).
-Status add_bench_variables(AddressSpace& space, std::size_t count);
+Status add_bench_variables(opcua::server::AddressSpace& space, std::size_t count);
 // Steps the first `count` bench variables every `period` on the server's loop.
-void start_bench_timer(Server& server, std::size_t count, std::chrono::milliseconds period);
+void start_bench_timer(opcua::server::Server& server, std::size_t count, std::chrono::milliseconds period);
 
-}  // namespace sf::opcua::server
+}  // namespace sf::examples

@@ -1,4 +1,4 @@
-#include "sf/knowledge/factory_data.hpp"
+#include "sf/examples/factory_data.hpp"
 
 #include <fstream>
 
@@ -6,6 +6,9 @@
 
 namespace sf::knowledge {
 namespace {
+
+using examples::FactoryDataOptions;
+using examples::generate_factory_data;
 
 std::set<std::string> all_lines(const Dictionary& d, const std::vector<Triple>& t) {
   return testing::lines(d, t);

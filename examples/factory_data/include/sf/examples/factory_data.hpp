@@ -12,7 +12,10 @@
 
 #include "sf/knowledge/store.hpp"
 
-namespace sf::knowledge {
+namespace sf::examples {
+
+using knowledge::Dictionary;
+using knowledge::Triple;
 
 struct FactoryDataOptions {
   std::size_t target_triples = 100'000;  // lines are added until at least this many triples
@@ -25,4 +28,4 @@ inline constexpr std::string_view kFactoryDataNamespace = "http://smartfactory.e
 
 std::vector<Triple> generate_factory_data(Dictionary& dict, const FactoryDataOptions& options);
 
-}  // namespace sf::knowledge
+}  // namespace sf::examples

@@ -4,9 +4,12 @@
 #include <string>
 #include <vector>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 
-namespace sf::opcua::server {
+namespace sf::examples {
+
+using namespace opcua;          // NOLINT(google-build-using-namespace): the model is built of
+using namespace opcua::server;  // NOLINT(google-build-using-namespace): OPC UA nodes throughout
 
 namespace {
 
@@ -66,9 +69,10 @@ void start_bench_timer(Server& server, std::size_t count, std::chrono::milliseco
       ids->push_back(bench_node_id(*ns, i));
     }
     auto step = std::make_shared<std::uint64_t>(0);
-    server.loop().add_periodic(period, [&space, ids, step] {
+    const Clock& clock = server.loop().clock();
+    server.loop().add_periodic(period, [&space, &clock, ids, step] {
       ++*step;
-      const auto now = DateTime::from_system_clock(std::chrono::system_clock::now());
+      const auto now = DateTime::from_system_clock(clock.utc_now());
       for (std::size_t i = 0; i < ids->size(); ++i) {
         DataValue value(Variant(bench_value(i, *step)));
         value.source_timestamp = now;
@@ -78,4 +82,4 @@ void start_bench_timer(Server& server, std::size_t count, std::chrono::milliseco
   });
 }
 
-}  // namespace sf::opcua::server
+}  // namespace sf::examples

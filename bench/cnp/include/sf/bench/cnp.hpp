@@ -1,10 +1,10 @@
-// The Contract Net benchmark behind `smartfactory cnp bench` and
-// bench/bench_cnp.sh: negotiation latency (ANNOUNCE → confirmed AWARD, one
-// negotiation at a time) and throughput (a window of negotiations in flight)
-// against N contractors over DDS on loopback, the contractors either in this
-// process or each in its own process. In the same run it measures Cyclone's
-// own ddsperf ping/pong round trip with the same configuration, so the figure
-// comes with its ratio to one DDS round trip (machines are shared and noisy).
+// The Contract Net benchmark behind `smartfactory cnp bench`, bench/bench_cnp.sh and bench_cnp: a
+// harness next to the benchmarks, not part of the negotiation library. Negotiation latency
+// (ANNOUNCE → confirmed AWARD, one negotiation at a time) and throughput (a window of negotiations
+// in flight) against N contractors over DDS on loopback, the contractors either in this process
+// or each in its own process. In the same run it measures Cyclone's own ddsperf ping/pong round
+// trip with the same configuration, so the figure comes with its ratio to one DDS round trip
+// (machines are shared and noisy).
 #pragma once
 
 #include <chrono>
@@ -105,8 +105,8 @@ Result<BenchResult> run_bench(const BenchOptions& options,
                               const std::function<void(std::string_view)>& progress = {});
 
 // ddsperf ping/pong on loopback with `settings`' network configuration, in a domain of its own,
-// at the negotiation's fan-out: one pong process per contractor (the "same fan-out"); a
-// ping is sent when every pong has answered.
+// at the negotiation's fan-out: one pong process per contractor (the same fan-out as a
+// negotiation's ANNOUNCE); a ping is sent when every pong has answered.
 Result<DdsperfResult> run_ddsperf(const BenchOptions& options);
 // Reads ddsperf ping's output (see FanOutRoundTrip); nullopt when it holds no round-trip line.
 std::optional<FanOutRoundTrip> parse_ddsperf_output(const std::string& path);

@@ -1,4 +1,4 @@
-#include "sf/knowledge/factory_data.hpp"
+#include "sf/examples/factory_data.hpp"
 
 #include <random>
 #include <string>
@@ -7,7 +7,10 @@
 
 #include "sf/knowledge/vocab.hpp"
 
-namespace sf::knowledge {
+namespace sf::examples {
+
+using namespace knowledge;  // NOLINT(google-build-using-namespace): the generator writes RDF throughout
+
 namespace {
 
 class Generator {
@@ -278,4 +281,4 @@ std::vector<Triple> generate_factory_data(Dictionary& dict, const FactoryDataOpt
   return Generator(dict, options).run();
 }
 
-}  // namespace sf::knowledge
+}  // namespace sf::examples

@@ -35,7 +35,9 @@ namespace sf::opcua::client_detail {
 template <typename T>
 Error error_of(const Result<T>& result) {
   const Error& error = result.error();
-  return Error(error.code, error.message);
+  Error copy(error.code, error.message);
+  copy.protocol_code = error.protocol_code;
+  return copy;
 }
 
 // The response type of each request the client sends.

@@ -209,7 +209,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   void discovery_request(Request request, std::function<void(Result<Response>)> finish);
 
   // ---- security (secure_session.cpp) ----
-  // Policy None/None and no discovery: what issue 5's client did.
+  // Policy None/None and no discovery (GetEndpoints is skipped).
   [[nodiscard]] bool plain() const;
   // GetEndpoints over a None channel, then the endpoint to use with its certificate checked.
   void discover_endpoint(std::uint64_t generation, std::function<void(Result<EndpointDescription>)> done);

@@ -1,4 +1,4 @@
-// Our client against our server over loopback with security (issue 6): every policy in Sign and
+// Our client against our server over loopback with security (OPC 10000-2 §4): every policy in Sign and
 // SignAndEncrypt with anonymous, user name and certificate logins; wrong passwords, untrusted
 // client certificates (refused, then trusted from rejected/ without a restart), roles (a viewer
 // cannot write or call; a user who may not read a node cannot monitor it), endpoints that are not

@@ -52,7 +52,7 @@ class Dispatcher final : public ServiceHandler {
   // Called after every request that may have moved next_due() earlier (the service table's
   // Schedule::may_change rows).
   void set_on_schedule_changed(std::function<void()> callback) { on_schedule_changed_ = std::move(callback); }
-  // Endpoints, certificate, client certificate validation, users and roles (issue 6); nullptr
+  // Endpoints, certificate, client certificate validation, users and roles (OPC 10000-2 §4); nullptr
   // or never called: SecurityPolicy None with unrestricted anonymous users.
   void set_security(std::shared_ptr<const ServerSecurity> security);
   // Where HistoryRead finds values (nullptr: HistoryRead answers BadHistoryOperationUnsupported).

@@ -112,7 +112,7 @@ Process::Process(Process&& other) noexcept
       in_(std::exchange(other.in_, -1)),
       out_(std::exchange(other.out_, {})),
       err_(std::exchange(other.err_, {})),
-      exit_status_(std::move(other.exit_status_)) {}
+      exit_status_(other.exit_status_) {}
 
 Process& Process::operator=(Process&& other) noexcept {
   if (this != &other) {
@@ -124,7 +124,7 @@ Process& Process::operator=(Process&& other) noexcept {
     in_ = std::exchange(other.in_, -1);
     out_ = std::exchange(other.out_, {});
     err_ = std::exchange(other.err_, {});
-    exit_status_ = std::move(other.exit_status_);
+    exit_status_ = other.exit_status_;
   }
   return *this;
 }

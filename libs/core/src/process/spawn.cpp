@@ -245,6 +245,7 @@ bool install(int fd, int target) {
   // thread had (signal masks and ignored signals survive execve).
   sigset_t none;
   ::sigemptyset(&none);
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): after fork the child has this one thread
   if (::sigprocmask(SIG_SETMASK, &none, nullptr) != 0 || ::signal(SIGPIPE, SIG_DFL) == SIG_ERR) {
     fail_in_child(plan.report, Step::signals);
   }

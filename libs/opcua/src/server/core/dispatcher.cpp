@@ -150,13 +150,13 @@ void Dispatcher::dispatch(Call& call, const Request& request) {
     log::get("opcua")->info("channel {}: {} is not supported", call.channel_id(), Request::kTypeName);
     fault(call, request.request_header, status::BadServiceUnsupported);
   } else {
-    constexpr auto row = detail::kServiceOf<Request>;
-    if constexpr (row.needs == detail::Needs::session) {
+    constexpr auto kRow = detail::kServiceOf<Request>;
+    if constexpr (kRow.needs == detail::Needs::session) {
       with_session(call, request);
     } else {
       serve(call, request);
     }
-    if (row.schedule == detail::Schedule::may_change && on_schedule_changed_) {
+    if (kRow.schedule == detail::Schedule::may_change && on_schedule_changed_) {
       on_schedule_changed_();
     }
   }
@@ -189,7 +189,7 @@ namespace detail {
 struct SessionScope {
   AddressSpace& space;
   SubscriptionService& subscriptions;
-  HistoryDatabase* history;
+  HistoryDatabase* history = nullptr;
   const Session& session;
   ServiceContext context;
 };

@@ -18,7 +18,7 @@
 #include <optional>
 #include <string>
 
-#include "sf/negotiation/bench.hpp"
+#include "sf/bench/cnp.hpp"
 
 namespace cnp = sf::negotiation;
 

@@ -1,7 +1,8 @@
 // Reasoning over generated candy-factory data (libs/knowledge) next to Apache Jena's forward
 // RETE engine (GenericRuleReasoner, FORWARD_RETE) in the same run: the same ontology, data and
 // rule files (rules/rdfs.rules, owl2rl.rules, candy-factory.rules), each engine in its own
-// process so that its peak resident memory (getrusage ru_maxrss) is its own. Then the latency of
+// process so that its peak resident memory (getrusage ru_maxrss) is its own (this program runs
+// again for ours, with a --child-* role). Then the latency of
 // one live-value change (a machine's temperature) maintained incrementally, in both.
 //
 //   bench_knowledge [--sizes 100000,1000000] [--updates 200] [--no-jena] [--jena-xmx 16g]
@@ -11,8 +12,6 @@
 // million triples).
 //
 // Times: reasoning only (closure from loaded data); "load" is parsing the N-Triples file.
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -31,7 +30,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "sf/knowledge/factory_data.hpp"
+#include "sf/bench/percentile.hpp"
+#include "sf/core/process.hpp"
+#include "sf/examples/factory_data.hpp"
 #include "sf/knowledge/rdf_io.hpp"
 #include "sf/knowledge/reasoner.hpp"
 #include "sf/knowledge/vocab.hpp"
@@ -57,69 +58,50 @@ struct Measured {
   bool ok = false;
 };
 
-// Runs fn in a child process; fn writes a JSON line to the pipe. The parent reads it and the
-// child's peak RSS from wait4().
-template <typename F>
-Measured in_child(F&& fn) {
-  int fds[2];
-  if (pipe(fds) != 0) {
-    return {};
+// The JSON object at the end of `text` that starts with `{"key"` (the last line when `key` is
+// empty), or null.
+nlohmann::json last_json(std::string text, std::string_view key) {
+  while (!text.empty() && text.back() == '\n') {
+    text.pop_back();
   }
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
-    const std::string line = fn().dump() + "\n";
-    (void)!write(fds[1], line.data(), line.size());
-    _exit(0);
+  const auto line = text.rfind('\n');
+  const auto start =
+      key.empty() ? (line == std::string::npos ? 0 : line + 1) : text.rfind(fmt::format("{{\"{}\"", key));
+  if (start == std::string::npos) {
+    return nullptr;
   }
-  close(fds[1]);
-  std::string text;
-  std::array<char, 4096> buf{};
-  for (ssize_t n; (n = read(fds[0], buf.data(), buf.size())) > 0;) {
-    text.append(buf.data(), static_cast<std::size_t>(n));
-  }
-  close(fds[0]);
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
+  auto j = nlohmann::json::parse(text.substr(start), nullptr, false);
+  return j.is_discarded() ? nlohmann::json(nullptr) : j;
+}
+
+// Runs `argv` as a process of its own (so that its peak RSS is its own) and reads its JSON result
+// (see last_json) from stdout, or, for the Java peer, from stderr.
+Measured measure(std::vector<std::string> argv, std::string_view key, sf::Stream json_on) {
+  sf::ProcessOptions o;
+  o.argv = std::move(argv);
+  o.out = json_on == sf::Stream::out ? sf::Stdio::pipe() : sf::Stdio::null();
+  o.err = json_on == sf::Stream::err ? sf::Stdio::pipe() : sf::Stdio::inherit();
+  auto done = sf::Process::run(std::move(o), std::chrono::hours{24});
   Measured m;
-  m.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  m.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && !text.empty();
-  if (m.ok) {
-    m.result = nlohmann::json::parse(text, nullptr, false);
+  if (!done) {
+    std::cerr << done.error().describe() << "\n";
+    return m;
+  }
+  const std::string& text = json_on == sf::Stream::out ? done->out : done->err;
+  m.peak_mb = static_cast<double>(done->status.max_rss_kib) / 1024.0;
+  m.result = last_json(text, key);
+  m.ok = done->status.success() && !m.result.is_null();
+  if (!m.ok) {
+    std::cerr << text.substr(text.size() > 2000 ? text.size() - 2000 : 0) << "\n";
   }
   return m;
 }
 
-// Runs a command with its stderr captured (for the Java peer).
-Measured command(const std::string& cmd) {
-  return in_child([&] {
-    const std::string full = cmd + " 2>&1 >/dev/null";
-    FILE* p = popen(full.c_str(), "r");
-    std::string out;
-    std::array<char, 4096> buf{};
-    for (std::size_t n; p != nullptr && (n = fread(buf.data(), 1, buf.size(), p)) > 0;) {
-      out.append(buf.data(), n);
-    }
-    const int rc = p == nullptr ? -1 : pclose(p);
-    // The last line of the peer's stderr is its JSON; the child's rusage includes the JVM.
-    const auto start = out.rfind("{\"load_ms\"");
-    nlohmann::json j = start == std::string::npos ? nlohmann::json{}
-                                                  : nlohmann::json::parse(out.substr(start), nullptr, false);
-    if (rc != 0 || j.is_discarded() || j.is_null()) {
-      std::cerr << out.substr(out.size() > 2000 ? out.size() - 2000 : 0) << "\n";
-      _exit(1);
-    }
-    return j;
-  });
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) {
-    return 0;
-  }
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+// This program again, running one of the child roles of main().
+std::vector<std::string> self(std::initializer_list<std::string> args) {
+  std::vector<std::string> argv = {"/proc/self/exe"};
+  argv.insert(argv.end(), args);
+  return argv;
 }
 
 nlohmann::json ours(const std::string& data, int updates) {
@@ -172,30 +154,53 @@ nlohmann::json ours(const std::string& data, int updates) {
           {"reason_ms", reason_ms},
           {"inferred", stats.inferred},
           {"input_triples", stats.asserted},
-          {"update_median_ms", percentile(latencies, 0.5)},
-          {"update_p99_ms", percentile(latencies, 0.99)}};
+          {"update_median_ms", sf::bench::percentile(latencies, 0.5)},
+          {"update_p99_ms", sf::bench::percentile(latencies, 0.99)}};
 }
 
 std::string jena_classpath(const std::string& dir) {
-  const std::string cmd = fmt::format("python3 {}/tests/peers/jena/jena_peer.py build {}", kSource, dir);
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  for (std::size_t n; p != nullptr && (n = fread(buf.data(), 1, buf.size(), p)) > 0;) {
-    out.append(buf.data(), n);
-  }
-  if (p == nullptr || pclose(p) != 0) {
+  sf::ProcessOptions o;
+  o.argv = {"python3", kSource + "/tests/peers/jena/jena_peer.py", "build", dir};
+  o.err = sf::Stdio::pipe();
+  auto done = sf::Process::run(std::move(o), std::chrono::minutes{30});
+  if (!done || !done->status.success()) {
+    std::cerr << (done ? done->err : done.error().describe()) << "\n";
     return {};
   }
+  std::string out = std::move(done->out);
   while (!out.empty() && out.back() == '\n') {
     out.pop_back();
   }
   return out;
 }
 
+// The child roles: generate a data file, or reason over one; each prints one JSON line.
+int child_main(const std::vector<std::string>& args) {
+  if (args.size() == 3 && args[0] == "--child-generate") {
+    kb::Dictionary dict;
+    sf::examples::FactoryDataOptions o;
+    o.target_triples = std::stoul(args[1]);
+    o.seed = 7;
+    std::ofstream out(args[2]);
+    const bool ok =
+        kb::write_rdf(out, dict, sf::examples::generate_factory_data(dict, o), kb::Syntax::ntriples).ok();
+    std::cout << nlohmann::json{{"ok", ok}}.dump() << "\n";
+    return ok ? 0 : 1;
+  }
+  if (args.size() == 3 && args[0] == "--child-ours") {
+    std::cout << ours(args[1], std::stoi(args[2])).dump() << "\n";
+    return 0;
+  }
+  std::cerr << "bench_knowledge: unknown child role\n";
+  return 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string_view(argv[1]).starts_with("--child-")) {
+    return child_main({argv + 1, argv + argc});
+  }
   std::vector<std::size_t> sizes = {100'000, 1'000'000};
   int updates = 200;
   bool jena = true;
@@ -236,27 +241,25 @@ int main(int argc, char** argv) {
   for (std::size_t size : sizes) {
     const std::string data = fmt::format("{}/factory-{}.nt", dir, size);
     // Generated in a child too, so that the parent (whose memory the children share) stays small.
-    const Measured generated = in_child([&] {
-      kb::Dictionary dict;
-      kb::FactoryDataOptions o;
-      o.target_triples = size;
-      o.seed = 7;
-      std::ofstream out(data);
-      const bool ok = kb::write_rdf(out, dict, kb::generate_factory_data(dict, o), kb::Syntax::ntriples).ok();
-      return nlohmann::json{{"ok", ok}};
-    });
+    const Measured generated =
+        measure(self({"--child-generate", std::to_string(size), data}), "", sf::Stream::out);
     if (!generated.ok || !generated.result.value("ok", false)) {
       std::cerr << "generating " << data << " failed\n";
       return 1;
     }
-    const Measured a = in_child([&] { return ours(data, updates); });
+    const Measured a = measure(self({"--child-ours", data, std::to_string(updates)}), "", sf::Stream::out);
     Measured b;
     if (jena) {
-      b = command(fmt::format(
-          "java {} -cp '{}' JenaReason --data {} --data {} --data {} --rules {} --rules {} --rules {} --stats "
-          "--updates {} --update-property {}temperature",
-          xmx.empty() ? std::string() : "-Xmx" + xmx, classpath, kOntology, kCatalog, data, kRules[0], kRules[1],
-          kRules[2], updates, kb::vocab::kSf));
+      // The peer prints its JSON last on stderr.
+      std::vector<std::string> java = {"java"};
+      if (!xmx.empty()) {
+        java.push_back("-Xmx" + xmx);
+      }
+      const std::string property = std::string(kb::vocab::kSf) + "temperature";
+      java.insert(java.end(), {"-cp", classpath, "JenaReason", "--data", kOntology, "--data", kCatalog, "--data", data, "--rules",
+                               kRules[0], "--rules", kRules[1], "--rules", kRules[2], "--stats", "--updates",
+                               std::to_string(updates), "--update-property", property});
+      b = measure(java, "load_ms", sf::Stream::err);
     }
     if (!a.ok) {
       std::cerr << "our run failed\n";

@@ -1,5 +1,5 @@
 // Shared by the OPC UA benchmarks (bench_opcua_server, bench_opcua_security): servers as child
-// processes (sf::testing::ChildProcess), the CPU time of a process, Read throughput with requests kept
+// processes (sf::Process), the CPU time of a process, Read throughput with requests kept
 // outstanding, and where things are.
 #pragma once
 
@@ -25,8 +25,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "sf/core/process.hpp"
 #include "sf/opcua/client/client.hpp"
-#include "sf/testing/child_process.hpp"
 
 namespace opcua_bench {
 
@@ -67,38 +67,51 @@ class ServerProcess {
 
   bool start(const std::vector<std::string>& args, const std::filesystem::path& cwd, bool verbose,
              std::chrono::seconds timeout) {
-    if (!process_.spawn(args, cwd, verbose)) {
+    sf::ProcessOptions o;
+    o.argv = args;
+    o.cwd = cwd;
+    o.in = sf::Stdio::pipe();
+    o.out = sf::Stdio::pipe();
+    o.err = verbose ? sf::Stdio::inherit() : sf::Stdio::null();
+    auto started = sf::Process::spawn(std::move(o));
+    if (!started) {
       return false;
     }
+    process_ = std::move(*started);
     paused_ = false;
-    return process_.wait_for_line(
-        [this](const std::string& line) {
-          const auto ready = line.find("READY ");
-          const auto listening = line.find("listening on ");
-          const auto colon = line.rfind(':');
-          if (ready != std::string::npos) {
-            port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
-          } else if (listening != std::string::npos && colon != std::string::npos) {
-            port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
-          }
-          return port_ != 0;
-        },
-        timeout);
+    return process_
+        .wait_for_line(
+            [this](const std::string& line) {
+              const auto ready = line.find("READY ");
+              const auto listening = line.find("listening on ");
+              const auto colon = line.rfind(':');
+              if (ready != std::string::npos) {
+                port_ = static_cast<std::uint16_t>(std::stoul(line.substr(ready + 6)));
+              } else if (listening != std::string::npos && colon != std::string::npos) {
+                port_ = static_cast<std::uint16_t>(std::stoul(line.substr(colon + 1)));
+              }
+              return port_ != 0;
+            },
+            timeout)
+        .ok();
   }
 
   // Closes stdin (node_server.mjs exits then) and sends SIGTERM; SIGKILL after 10 s.
-  void stop() { process_.stop(true); }
+  void stop() {
+    process_.close_stdin();
+    process_.terminate(std::chrono::seconds(10));
+  }
 
   // SIGSTOP / SIGCONT: the server takes no CPU while the other one is measured.
   void pause() {
     if (!paused_) {
-      process_.signal(SIGSTOP);
+      (void)process_.signal(SIGSTOP);
       paused_ = true;
     }
   }
   void resume() {
     if (paused_) {
-      process_.signal(SIGCONT);
+      (void)process_.signal(SIGCONT);
       paused_ = false;
     }
   }
@@ -123,7 +136,7 @@ class ServerProcess {
 
  private:
   std::string name_;
-  sf::testing::ChildProcess process_;
+  sf::Process process_;
   std::uint16_t port_ = 0;
   bool paused_ = false;
 };

@@ -1,5 +1,5 @@
-// The server's message path on arbitrary input (issue 5: "fuzz targets for the decoder and the
-// server message path"): the bytes are decoded as a service message exactly as the transport
+// The server's message path on arbitrary input (OPC 10000-6 §6.7.1, the message body after the
+// secure channel layer): the bytes are decoded as a service message exactly as the transport
 // does, and when they decode, the request is run through the Dispatcher — with the session
 // token of an open, activated session patched in, so the fuzzer reaches every service (Read,
 // Write, Browse, Call, subscriptions, Publish) and not only the session check.
@@ -8,7 +8,7 @@
 #include <memory>
 #include <type_traits>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/server/dispatcher.hpp"
 #include "sf/opcua/server/ns0.hpp"
 
@@ -42,7 +42,7 @@ struct World {
   World() {
     (void)build_namespace0(space);
     space.add_namespace("urn:smartfactory:fuzz");
-    (void)add_demo_nodes(space);
+    (void)sf::examples::add_demo_nodes(space);
     dispatcher = std::make_unique<Dispatcher>(space, clock, ServerIdentity{}, SessionLimits{},
                                               SubscriptionLimits{}, OperationLimits{});
   }

@@ -1,4 +1,4 @@
-"""The cloud gateway as processes (issue 8): two `smartfactory opcua server --demo-model` processes,
+"""The cloud gateway as processes (paper §VI): two `smartfactory opcua server --demo-model` processes,
 `smartfactory cloud` writing to SQLite with its aggregating OPC UA server, and node-opcua's client
 reading the history through that server.
 

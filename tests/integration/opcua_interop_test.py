@@ -1,4 +1,4 @@
-"""OPC UA interoperability with node-opcua (issue 5), both directions, on loopback:
+"""OPC UA interoperability with node-opcua (OPC 10000-4 services, OPC 10000-6 UA TCP), both directions, on loopback:
 
 1. node-opcua's client against `smartfactory opcua server --demo-model`: endpoints, browse,
    read, write (allowed and refused), call, subscribe, and a Bad status for an unknown node.
@@ -20,7 +20,7 @@ DEMO = "nsu=urn:smartfactory:demo;s="
 def start_our_server(tmp):
     server = Background([binary(), "opcua", "server", "--host", "127.0.0.1", "--advertised-host", "127.0.0.1",
                          "--port", "0", "--demo-model", "--status-interval", "0",
-                         # Issue 5's interop over SecurityPolicy None (opcua_security_test.py has the
+                         # Interop over SecurityPolicy None (opcua_security_test.py has the
                          # secured endpoints); anonymous users may write and call, as node_client.js does.
                          "--security", "none", "--anonymous", "operator"],
                         log=os.path.join(tmp, "server.log"))

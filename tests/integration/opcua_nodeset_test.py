@@ -1,4 +1,4 @@
-"""NodeSet2 interop with node-opcua (issue 5), both directions:
+"""NodeSet2 interop with node-opcua (OPC 10000-6 Annex F), both directions:
 
 1. Our export (`smartfactory opcua nodeset --demo-model -o demo.xml`) loads in a node-opcua
    server; node-opcua's client browses the demo model with its types, values and the Multiply

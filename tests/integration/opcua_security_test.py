@@ -1,4 +1,4 @@
-"""OPC UA security with node-opcua (issue 6), both directions, on loopback:
+"""OPC UA security with node-opcua (OPC 10000-2 §4, OPC 10000-6 §6.7), both directions, on loopback:
 
 1. node-opcua's client against `smartfactory opcua server` (default: Sign and SignAndEncrypt, a
    users file, anonymous users as viewers): its certificate is refused with

@@ -57,7 +57,7 @@ void print_problems(const cloud::GatewayStatus& s) {
 // Security as the opcua commands apply it (opcua_security.hpp): one PKI folder for the gateway's
 // client certificate, the servers it trusts and the aggregating server's certificate.
 cloud::GatewayOptions security_hooks(const std::string& pki) {
-  const std::string folder = pki.empty() ? default_pki_dir() : pki;
+  const std::string folder = pki.empty() ? opcua::security::default_pki_dir() : pki;
   cloud::GatewayOptions options;
   options.configure_client = [folder](const cloud::ServerConfig& server, opcua::ClientConfig& client) {
     ClientSecurityOptions o;

@@ -21,6 +21,7 @@
 #include "sf/core/clock.hpp"
 #include "sf/core/log.hpp"
 #include "sf/ethercat/master/master.hpp"
+#include "sf/ethercat/slave/devices.hpp"
 #include "sf/ethercat/slave/segment.hpp"
 
 namespace sf::app {
@@ -212,6 +213,15 @@ int run_scan(const MasterCliOptions& o) {
   return kExitOk;
 }
 
+// The device models a segment spec can name, one per line (from the library's table).
+std::string kinds_help() {
+  std::string out;
+  for (const auto& model : ecat::slave::device_models()) {
+    out += fmt::format("  {:<17} {}\n", model.name, model.summary);
+  }
+  return out;
+}
+
 }  // namespace
 
 void register_ecat(CLI::App& app, CommandResult& result) {
@@ -228,8 +238,7 @@ void register_ecat(CLI::App& app, CommandResult& result) {
       ->required();
   sim_cmd
       ->add_option("--slaves", sim->slaves,
-                   "Segment, in ring order: KIND[:COUNT],... with KIND one of "
-                   "smart-controller, digital-io, servo")
+                   "Segment, in ring order: KIND[:COUNT],... with KIND one of\n" + kinds_help())
       ->required();
   sim_cmd->add_option("--pcap", sim->pcap, "Record every frame received and sent to this pcap file");
   sim_cmd->add_option("--drop-rate", sim->drop_rate, "Probability (0..1) that a frame is lost in the segment")

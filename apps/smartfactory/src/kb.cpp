@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "sf/knowledge/factory_data.hpp"
+#include "sf/examples/factory_data.hpp"
 #include "sf/knowledge/nodeset.hpp"
 #include "sf/knowledge/rdf_io.hpp"
 #include "sf/knowledge/reasoner.hpp"
@@ -220,19 +220,19 @@ int run_to_nodeset(const NodesetCliOptions& o) {
 // --- generate -----------------------------------------------------------------------------
 
 struct GenerateOptions {
-  kb::FactoryDataOptions data;
+  examples::FactoryDataOptions data;
   std::string output;
 };
 
 int run_generate(const GenerateOptions& o) {
   kb::Dictionary dict;
-  const auto triples = kb::generate_factory_data(dict, o.data);
+  const auto triples = examples::generate_factory_data(dict, o.data);
   std::ofstream out(o.output);
   if (!out) {
     return fail("generate", make_error(Errc::io, fmt::format("{}: cannot create", o.output)));
   }
   const std::map<std::string, std::string> prefixes{{"sf", "http://smartfactory.example/ontology/candy#"},
-                                                    {"f", std::string(kb::kFactoryDataNamespace)}};
+                                                    {"f", std::string(examples::kFactoryDataNamespace)}};
   if (auto st = kb::write_rdf(out, dict, triples, kb::syntax_for_path(o.output), prefixes); !st) {
     return fail("generate", st.error());
   }

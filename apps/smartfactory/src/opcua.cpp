@@ -22,9 +22,11 @@
 #include "opcua_security.hpp"
 #include "opcua_values.hpp"
 #include "sf/core/log.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/client/client.hpp"
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/opcua/server/ns0.hpp"
 #include "sf/opcua/server/server.hpp"
+#include "sf/opcua/value_text.hpp"
 
 namespace sf::app {
 namespace {
@@ -68,9 +70,9 @@ int run_server(const ServerOptions& o) {
   std::cerr << "opcua server: " << *security << "\n";
   ua::server::Server server(config);
   if (o.demo_model) {
-    ua::server::DemoModelOptions demo;
+    examples::DemoModelOptions demo;
     demo.bench_variables = o.bench_variables;
-    if (auto st = ua::server::add_demo_model(server, demo); !st) {
+    if (auto st = examples::add_demo_model(server, demo); !st) {
       std::cerr << "opcua server: demo model: " << st.error().describe() << "\n";
       return kExitFailure;
     }
@@ -148,7 +150,7 @@ std::unique_ptr<ua::SyncClient> connect(const ClientOptions& o, const char* comm
 
 // Resolves "nsu=URI;..." against the server's NamespaceArray.
 Result<ua::NodeId> resolve_node(ua::SyncClient& client, std::string_view text) {
-  auto ref = parse_node_ref(text);
+  auto ref = ua::parse_node_ref(text);
   if (!ref) {
     return ref.error();
   }
@@ -294,10 +296,10 @@ int run_write(const WriteOptions& o) {
   ua::BuiltinType type = ua::BuiltinType::Null;
   if (data_type && !data_type->empty()) {
     if (const auto* id = (*data_type)[0].value.get_if<ua::NodeId>()) {
-      type = builtin_type_of_data_type(*id);
+      type = ua::server::builtin_type_of(*id);
     }
   }
-  auto value = parse_typed_variant(o.value, type);
+  auto value = ua::parse_typed_variant(o.value, type);
   if (!value) {
     return fail("write", value.error());
   }
@@ -347,7 +349,7 @@ std::vector<ua::BuiltinType> input_argument_types(ua::SyncClient& client, const 
     }
     for (const auto& arg : *args) {
       const auto* a = arg.get_if<ua::Argument>();
-      types.push_back(a != nullptr ? builtin_type_of_data_type(a->data_type) : ua::BuiltinType::Null);
+      types.push_back(a != nullptr ? ua::server::builtin_type_of(a->data_type) : ua::BuiltinType::Null);
     }
   }
   return types;
@@ -366,7 +368,7 @@ int run_call(const CallOptions& o) {
   const auto types = input_argument_types(*client, *method);
   std::vector<ua::Variant> inputs;
   for (std::size_t i = 0; i < o.args.size(); ++i) {
-    auto value = parse_typed_variant(o.args[i], i < types.size() ? types[i] : ua::BuiltinType::Null);
+    auto value = ua::parse_typed_variant(o.args[i], i < types.size() ? types[i] : ua::BuiltinType::Null);
     if (!value) {
       return fail("call", value.error());
     }

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/server/nodeset.hpp"
 #include "sf/opcua/server/ns0.hpp"
 
@@ -51,7 +51,7 @@ int run_nodeset(const NodeSetOptions& o) {
     return kExitFailure;
   }
   if (o.demo_model) {
-    if (auto st = ua::server::add_demo_nodes(space); !st) {
+    if (auto st = examples::add_demo_nodes(space); !st) {
       std::cerr << "opcua nodeset: demo model: " << st.error().message << "\n";
       return kExitFailure;
     }

@@ -21,7 +21,7 @@ using nlohmann::json;
 using Folder = sec::PkiStore::Folder;
 
 struct PkiOptions {
-  std::string pki = default_pki_dir();
+  std::string pki = sec::default_pki_dir();
   bool json = false;
   // init
   std::string uri;
@@ -62,7 +62,7 @@ void print_entry(const sec::PkiStore::Entry& e) {
 
 int run_init(const PkiOptions& o) {
   sec::PkiStore store(o.pki);
-  sec::CertificateRequest request = own_certificate_request();
+  sec::CertificateRequest request = sec::own_certificate_request();
   if (!o.uri.empty()) {
     request.application_uri = o.uri;
   }

@@ -1,7 +1,8 @@
-// Security options of the opcua commands (issue 6): the PKI folder, endpoints, users and the
-// identity of command-line clients. The server defaults to SignAndEncrypt and Sign with user
-// authentication; one installation's server and clients share a PKI folder whose own
-// certificate is made (and trusted) on first use, so a demo on one machine needs no setup.
+// Security options of the opcua commands (OPC 10000-2 §4): the PKI folder, endpoints, users and
+// the identity of command-line clients, applied by the library (sf/opcua/*/security_setup.hpp).
+// The server defaults to SignAndEncrypt and Sign with user authentication; one installation's
+// server and clients share a PKI folder whose own certificate is made (and trusted) on first use,
+// so a demo on one machine needs no setup.
 #pragma once
 
 #include <string>
@@ -10,41 +11,30 @@
 
 #include "commands.hpp"
 #include "sf/core/result.hpp"
-#include "sf/opcua/client/client.hpp"
-#include "sf/opcua/security/certificate.hpp"
-#include "sf/opcua/server/server.hpp"
+#include "sf/opcua/client/security_setup.hpp"
+#include "sf/opcua/security/provisioning.hpp"
+#include "sf/opcua/server/security_setup.hpp"
 
 namespace sf::app {
 
-// $XDG_STATE_HOME/smartfactory/opcua/pki (~/.local/state/... without it).
-std::string default_pki_dir();
-// urn:<host name>:smartfactory and a self-signed certificate for it: CN smartfactory@<host>,
-// DNS <host> and localhost, IP 127.0.0.1 and ::1, plus `extra_host` (a name or an address).
-opcua::security::CertificateRequest own_certificate_request(const std::string& extra_host = "");
-
-struct ServerSecurityOptions {
-  std::string pki = default_pki_dir();
-  std::string modes = "sign,encrypt";
-  std::string policies = "Basic256Sha256,Aes128_Sha256_RsaOaep,Aes256_Sha256_RsaPss";
-  std::string users;
-  std::string anonymous;  // a role, "off", or "" for the default
+// The settings with the PKI folder shown in --help.
+struct ServerSecurityOptions : opcua::server::ServerSecuritySettings {
+  ServerSecurityOptions() { pki = opcua::security::default_pki_dir(); }
 };
 void add_server_security_options(CLI::App& cmd, ServerSecurityOptions& o);
-// Fills config.security (and the ApplicationUri from the certificate), creating the PKI folder
-// and own certificate when needed. `demo`: without --users, anonymous users are operators.
-// Returns a line describing the result for stderr.
+// server::configure_server_security with these options. `demo`: without --users, anonymous users
+// are operators. Returns a line describing the result for stderr.
 Result<std::string> apply_server_security(const ServerSecurityOptions& o, bool demo,
                                           opcua::server::ServerConfig& config);
 
-struct ClientSecurityOptions {
-  std::string pki = default_pki_dir();
-  std::string security = "auto";
-  std::string user;
+// The settings with the PKI folder shown in --help, and the password in a file (or asked for).
+struct ClientSecurityOptions : opcua::ClientSecuritySettings {
+  ClientSecurityOptions() { pki = opcua::security::default_pki_dir(); }
   std::string password_file;
-  std::string user_certificate;
-  std::string user_key;
 };
 void add_client_security_options(CLI::App& cmd, ClientSecurityOptions& o);
+// configure_client_security with these options, the password read from --password-file or asked
+// for.
 Status apply_client_security(const ClientSecurityOptions& o, opcua::ClientConfig& config);
 // What to tell the user when connecting failed for a security reason (e.g. how to trust the
 // server's certificate); empty when there is nothing to add.

@@ -35,8 +35,8 @@ Result<SubscribeRule> parse_rule(const Node& node) {
   return rule;
 }
 
-// How to connect (issue 6): security POLICY:MODE, none or auto; a user name with a password file,
-// or a user certificate and key. Checked further by the application that applies it.
+// How to connect (OPC 10000-4 §5.6.3, §7.41): security POLICY:MODE, none or auto; a user name with a password
+// file, or a user certificate and key. Checked further by the application that applies it.
 Status parse_connection_security(const Node& node, ConnectionSecurity& out) {
   SF_TRY(node.read("security", out.security));
   SF_TRY(node.read("user", out.user));

@@ -82,7 +82,8 @@ Result<std::unique_ptr<detail::ServerLink>> Gateway::Impl::make_link(const Serve
       return st.error().with_context(fmt::format("server {}", server.name));
     }
   }
-  return std::make_unique<detail::ServerLink>(server, std::move(client), *store, *writer, bus, on_series);
+  return std::make_unique<detail::ServerLink>(server, std::move(client), *store, *writer, bus, on_series,
+                                              *options.clock);
 }
 
 void Gateway::Impl::add_discovered(const ServerConfig& server) {

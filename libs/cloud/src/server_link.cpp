@@ -19,10 +19,6 @@ using namespace std::chrono_literals;
 const std::vector<std::string> kEventFields = {"EventId", "EventType",   "SourceNode", "SourceName",
                                                "Time",    "ReceiveTime", "Message",    "Severity"};
 
-historian::Timestamp now() {
-  return std::chrono::time_point_cast<historian::Micros>(std::chrono::system_clock::now());
-}
-
 template <typename T>
 const T* field(const std::vector<ua::Variant>& fields, std::size_t i) {
   return i < fields.size() ? fields[i].get_if<T>() : nullptr;
@@ -41,8 +37,9 @@ ua::ClientConfig ServerLink::client_config(const ServerConfig& config) {
 
 ServerLink::ServerLink(ServerConfig config, ua::ClientConfig client, historian::Store& store,
                        SampleWriter& writer, LiveBus& bus,
-                       std::function<void(const historian::Series&)> on_series)
+                       std::function<void(const historian::Series&)> on_series, const Clock& clock)
     : config_(std::move(config)),
+      clock_(clock),
       store_(store),
       writer_(writer),
       bus_(bus),
@@ -218,6 +215,10 @@ Status ServerLink::subscribe_events(ua::SyncClient::SubscriptionId subscription)
 // Notifications of one item arrive in order. A re-created item first reports the current value
 // again: the same source time, value and status as the last sample, dropped here. Several
 // values with one source time are numbered (seq), which keeps them apart in the historian.
+historian::Timestamp ServerLink::now() const {
+  return std::chrono::time_point_cast<historian::Micros>(clock_.utc_now());
+}
+
 void ServerLink::on_value(std::size_t index, const ua::DataValue& value) {
   SeriesState& state = series_[index];
   historian::Sample sample = to_sample(state.series.id, value, now());

@@ -27,8 +27,9 @@ class ServerLink {
  public:
   // on_series: each series once it is registered (the aggregating server adds its node).
   // client: the connection settings (endpoint, security, user) made from config.
+  // clock: the receive time of samples and events that come without one.
   ServerLink(ServerConfig config, opcua::ClientConfig client, historian::Store& store, SampleWriter& writer,
-             LiveBus& bus, std::function<void(const historian::Series&)> on_series);
+             LiveBus& bus, std::function<void(const historian::Series&)> on_series, const Clock& clock);
   // The client settings of `config` before security is applied.
   static opcua::ClientConfig client_config(const ServerConfig& config);
   ~ServerLink();
@@ -54,8 +55,10 @@ class ServerLink {
   void on_value(std::size_t index, const opcua::DataValue& value);
   void on_event(const std::vector<opcua::Variant>& fields);
   void set_phase(std::string phase, std::string error = {});
+  [[nodiscard]] historian::Timestamp now() const;
 
   ServerConfig config_;
+  const Clock& clock_;
   historian::Store& store_;
   SampleWriter& writer_;
   LiveBus& bus_;

@@ -41,7 +41,9 @@ Error Error::with_context(std::string_view context) const {
   std::string msg{context};
   msg += ": ";
   msg += message;
-  return Error{code, std::move(msg)};
+  Error out{code, std::move(msg)};
+  out.protocol_code = protocol_code;
+  return out;
 }
 
 }  // namespace sf

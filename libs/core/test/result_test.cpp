@@ -40,6 +40,17 @@ TEST(Error, DescribeAndContext) {
   EXPECT_EQ(e.with_context("frame 7").describe(), "malformed: frame 7: length 300 exceeds frame");
 }
 
+// A protocol's code survives the context added on the way up, typed (no text to parse back).
+TEST(Error, ContextKeepsTheProtocolCode) {
+  constexpr std::string_view kTable = "test codes";
+  const Error e{Errc::not_found, "BadNodeIdUnknown: ns=1;s=x", ProtocolCode{kTable, 0x80340000U}};
+  const Error outer = e.with_context("Read").with_context("server plc7");
+  EXPECT_EQ(outer.message, "server plc7: Read: BadNodeIdUnknown: ns=1;s=x");
+  ASSERT_TRUE(outer.protocol_code.has_value());
+  EXPECT_EQ(*outer.protocol_code, (ProtocolCode{kTable, 0x80340000U}));
+  EXPECT_FALSE(Error(Errc::io, "no code").with_context("x").protocol_code.has_value());
+}
+
 TEST(Result, MoveOnlyValue) {
   Result<std::unique_ptr<int>> r{std::make_unique<int>(5)};
   ASSERT_TRUE(r.ok());

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "dds_test_support.hpp"
-#include "sf/testing/child_process.hpp"
+#include "sf/core/process.hpp"
 
 namespace sf::dds {
 namespace {
@@ -32,8 +32,14 @@ class RemoteReader : public ::testing::Test {
     writer.emplace(
         Writer<sf_ddstest_Reading>::create(*participant, *topic, QosBuilder{}.reliable().keep_last(8).build())
             .value());
-    ASSERT_TRUE(peer.spawn({SF_DDS_TEST_PEER, std::to_string(test::kTestDomain), partition}, ".", true));
-    ASSERT_TRUE(peer.wait_for_line([](const std::string& l) { return l == "ready"; }, 30s));
+    ProcessOptions o;
+    o.argv = {SF_DDS_TEST_PEER, std::to_string(test::kTestDomain), partition};
+    o.in = Stdio::pipe();  // the peer ends when its stdin does
+    o.out = Stdio::pipe();
+    auto started = Process::spawn(std::move(o));
+    ASSERT_TRUE(started.ok()) << started.error().describe();
+    peer = std::move(*started);
+    ASSERT_TRUE(peer.wait_for_line([](const std::string& l) { return l == "ready"; }, 30s).ok());
     // Discovery is not symmetric: the writer must know the reader too before it writes.
     const auto end = std::chrono::steady_clock::now() + 30s;
     while (writer->publication_matched().value().current_count == 0) {
@@ -41,16 +47,16 @@ class RemoteReader : public ::testing::Test {
       std::this_thread::sleep_for(10ms);
     }
   }
-  void TearDown() override { peer.stop(false); }
+  void TearDown() override { peer.close_and_wait(10s); }
 
   // Reads the peer's lines until `line` (true) or `bound` passes (false).
   bool peer_says(const std::string& line, std::chrono::milliseconds bound = 20s) {
-    return peer.wait_for_line([&](const std::string& l) { return l == line; }, bound);
+    return peer.wait_for_line([&](const std::string& l) { return l == line; }, bound).ok();
   }
   // The peer's next `n` lines (fewer if it stops talking for 20 s).
   std::vector<std::string> peer_lines(std::size_t n) {
     std::vector<std::string> lines;
-    peer.wait_for_line(
+    (void)peer.wait_for_line(
         [&](const std::string& l) {
           lines.push_back(l);
           return lines.size() == n;
@@ -63,7 +69,7 @@ class RemoteReader : public ::testing::Test {
   std::optional<Participant> participant;
   std::optional<Topic<sf_ddstest_Reading>> topic;
   std::optional<Writer<sf_ddstest_Reading>> writer;
-  testing::ChildProcess peer;
+  Process peer;
 };
 
 // A write waits in the batch only until its flush, which Writer does at once: the

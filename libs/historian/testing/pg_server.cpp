@@ -1,12 +1,9 @@
 #include "pg_server.hpp"
 
-#include <fcntl.h>
 #include <netinet/in.h>
 #include <pwd.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -77,31 +74,15 @@ std::vector<std::string> as_user(std::vector<std::string> argv, bool switch_user
   return out;
 }
 
-// fork + exec with stdout/stderr into `log`. The child gets SIGQUIT when we die.
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
-  std::vector<char*> args;
-  args.reserve(argv.size() + 1);
-  for (const auto& a : argv) {
-    args.push_back(const_cast<char*>(a.c_str()));
-  }
-  args.push_back(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::prctl(PR_SET_PDEATHSIG, SIGQUIT);
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    ::execvp(args[0], args.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-int wait_for(pid_t pid) {
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+// The server with stdout and stderr into `log`. It gets SIGQUIT when the thread that started it
+// dies.
+Result<Process> spawn(std::vector<std::string> argv, const fs::path& log) {
+  ProcessOptions o;
+  o.argv = std::move(argv);
+  o.out = Stdio::file(log, true);
+  o.err = Stdio::to_stdout();
+  o.parent_death_signal = SIGQUIT;
+  return Process::spawn(std::move(o));
 }
 
 }  // namespace
@@ -126,18 +107,19 @@ std::optional<fs::path> PgServer::find_bin_dir() {
 }
 
 Result<std::string> PgServer::run_tool(const std::vector<std::string>& argv, bool as_server_user) {
-  const auto log = dir_ / "tool.log";
-  fs::remove(log);
-  const pid_t pid = spawn(as_user(argv, as_server_user && as_postgres_, false), log);
-  if (pid < 0) {
-    return make_error(Errc::io, fmt::format("fork: {}", errno_text()));
+  ProcessOptions o;
+  o.argv = as_user(argv, as_server_user && as_postgres_, false);
+  o.err = Stdio::to_stdout();
+  o.parent_death_signal = SIGQUIT;
+  auto done = Process::run(std::move(o), std::chrono::hours{1});
+  if (!done) {
+    return done.error();
   }
-  const int rc = wait_for(pid);
-  auto output = read_text(log);
-  if (rc != 0) {
-    return make_error(Errc::io, fmt::format("{} exited with {}: {}", argv.front(), rc, output));
+  if (!done->status.success()) {
+    return make_error(Errc::io,
+                      fmt::format("{} exited with {}: {}", argv.front(), done->status.describe(), done->out));
   }
-  return output;
+  return std::move(done->out);
 }
 
 Result<std::unique_ptr<PgServer>> PgServer::start(PgServerOptions options) {
@@ -197,14 +179,17 @@ Status PgServer::launch() {
       argv.insert(argv.end(), {"-c", setting});
     }
   }
-  pid_ = spawn(as_user(argv, as_postgres_, true), dir_ / "server.log");
+  auto server = spawn(as_user(argv, as_postgres_, true), dir_ / "server.log");
+  if (!server) {
+    return server.error();
+  }
+  server_ = std::move(*server);
   // Ready when pg_isready says so; give up after 60 s (a loaded CI machine).
   auto& clock = SteadyClock::instance();
   const auto deadline = clock.now() + std::chrono::seconds{60};
   while (clock.now() < deadline) {
-    int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-      pid_ = -1;
+    if (!server_.running()) {
+      (void)server_.wait(std::chrono::seconds{0});  // reaps it
       return make_error(Errc::io,
                         fmt::format("postgres exited at start: {}", read_text(dir_ / "server.log")));
     }
@@ -248,13 +233,12 @@ Result<std::string> PgServer::psql(std::string_view database, std::string_view s
 }
 
 Status PgServer::kill() {
-  if (pid_ <= 0) {
+  if (server_.pid() <= 0) {
     return {};
   }
-  ::kill(pid_, SIGQUIT);
-  wait_for(pid_);
-  pid_ = -1;
-  return {};
+  SF_TRY(server_.signal(SIGQUIT));
+  return server_.wait(std::chrono::hours{1}).ok() ? Status{}
+                                                  : Status{make_error(Errc::io, "postgres did not go")};
 }
 
 Status PgServer::restart() {

@@ -8,8 +8,6 @@
 // thread); kill() may come from any thread.
 #pragma once
 
-#include <sys/types.h>
-
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -17,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sf/core/process.hpp"
 #include "sf/core/result.hpp"
 
 namespace sf::historian::testing {
@@ -51,7 +50,7 @@ class PgServer {
   Status kill();
   // Starts it again on the same port and data directory.
   Status restart();
-  [[nodiscard]] bool running() const { return pid_ > 0; }
+  [[nodiscard]] bool running() const { return server_.pid() > 0; }
 
  private:
   PgServer() = default;
@@ -62,7 +61,7 @@ class PgServer {
   std::filesystem::path dir_;
   PgServerOptions options_;
   int port_ = 0;
-  pid_t pid_ = -1;
+  Process server_;
   bool as_postgres_ = false;
 };
 

@@ -20,8 +20,6 @@
 namespace sf::net {
 namespace {
 
-using SteadyTime = std::chrono::steady_clock::time_point;
-
 std::uint32_t to_epoll(unsigned events) {
   std::uint32_t e = 0;
   if ((events & EventLoop::kReadable) != 0U) {
@@ -50,8 +48,10 @@ unsigned from_epoll(std::uint32_t e) {
 }  // namespace
 
 struct EventLoop::Impl {
+  explicit Impl(const Clock& c) : clock(c) {}
+
   struct Timer {
-    SteadyTime due;
+    Clock::time_point due;
     TimerId id;
     // Heap order: earliest first, then by id so equal deadlines run in the order added.
     bool operator>(const Timer& other) const { return due != other.due ? due > other.due : id > other.id; }
@@ -65,6 +65,7 @@ struct EventLoop::Impl {
     unsigned events = 0;
   };
 
+  const Clock& clock;
   int epoll_fd = -1;
   int wake_fd = -1;
   std::atomic<bool> stopping{false};
@@ -101,7 +102,7 @@ struct EventLoop::Impl {
     if (heap.empty()) {
       return -1;
     }
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = clock.now();
     if (heap.top().due <= now) {
       return 0;
     }
@@ -122,7 +123,7 @@ struct EventLoop::Impl {
   }
 
   void run_timers() {
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = clock.now();
     // Only timers due now; a timer added by a callback with delay 0 runs on the next pass.
     std::vector<Timer> due;
     while (!heap.empty() && heap.top().due <= now) {
@@ -156,7 +157,7 @@ struct EventLoop::Impl {
   }
 };
 
-EventLoop::EventLoop() : impl_(std::make_unique<Impl>()) {
+EventLoop::EventLoop(const Clock& clock) : impl_(std::make_unique<Impl>(clock)) {
   impl_->epoll_fd = ::epoll_create1(EPOLL_CLOEXEC);
   impl_->wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (impl_->epoll_fd < 0 || impl_->wake_fd < 0) {
@@ -242,11 +243,14 @@ bool EventLoop::in_loop_thread() const {
   return impl_->loop_thread.load() == std::this_thread::get_id();
 }
 
+const Clock& EventLoop::clock() const {
+  return impl_->clock;
+}
+
 EventLoop::TimerId EventLoop::add_timer(std::chrono::nanoseconds delay, std::function<void()> fn) {
   const TimerId id = impl_->next_timer++;
   impl_->timers.emplace(id, Impl::TimerEntry{std::move(fn), std::chrono::nanoseconds{0}});
-  impl_->heap.push(
-      Impl::Timer{std::chrono::steady_clock::now() + std::max(delay, std::chrono::nanoseconds{0}), id});
+  impl_->heap.push(Impl::Timer{impl_->clock.now() + std::max(delay, std::chrono::nanoseconds{0}), id});
   return id;
 }
 
@@ -255,7 +259,7 @@ EventLoop::TimerId EventLoop::add_periodic(std::chrono::nanoseconds period, std:
   period = std::max(period, std::chrono::nanoseconds{std::chrono::milliseconds{1}});
   const TimerId id = impl_->next_timer++;
   impl_->timers.emplace(id, Impl::TimerEntry{std::move(fn), period});
-  impl_->heap.push(Impl::Timer{std::chrono::steady_clock::now() + period, id});
+  impl_->heap.push(Impl::Timer{impl_->clock.now() + period, id});
   return id;
 }
 
@@ -301,7 +305,7 @@ void EventLoop::unwatch(int fd) {
   }
 }
 
-LoopThread::LoopThread() {
+LoopThread::LoopThread(const Clock& clock) : loop_(clock) {
   thread_ = std::thread([this] { loop_.run(); });
 }
 

@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <vector>
 
@@ -427,6 +428,14 @@ void connect_tcp(EventLoop& loop, const std::string& host, std::uint16_t port,
       op->try_next();
     }
   });
+}
+
+std::string host_name() {
+  std::array<char, 256> name{};
+  if (::gethostname(name.data(), name.size() - 1) != 0 || name[0] == '\0') {
+    return "localhost";
+  }
+  return name.data();
 }
 
 }  // namespace sf::net

@@ -38,6 +38,25 @@ TEST(EventLoop, TimersRunInDeadlineOrder) {
   EXPECT_EQ(order, (std::vector<int>{0, 10, 20, 30}));
 }
 
+// Timers read the loop's clock: an hour on a ManualClock passes at once.
+TEST(EventLoop, TimersFollowTheLoopsClock) {
+  ManualClock clock;
+  EventLoop loop(clock);
+  std::vector<int> order;
+  loop.add_timer(1h, [&] {
+    order.push_back(2);
+    loop.stop();
+  });
+  loop.add_periodic(30min, [&] { order.push_back(1); });
+  loop.add_timer(0ms, [&] {
+    order.push_back(0);
+    clock.advance(1h);
+  });
+  loop.run();
+  EXPECT_EQ(order, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(&loop.clock(), &clock);
+}
+
 TEST(EventLoop, EqualDeadlinesRunInInsertionOrder) {
   EventLoop loop;
   std::vector<int> order;

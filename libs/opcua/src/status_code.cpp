@@ -87,16 +87,13 @@ StatusCode status_of_errc(Errc code) {
 }  // namespace
 
 Error status_error(StatusCode code, std::string_view message) {
-  return Error{errc_of(code), fmt::format("{}: {}", to_string(code), message)};
+  return Error{errc_of(code), fmt::format("{}: {}", to_string(code), message),
+               ProtocolCode{kStatusCodeTable, code.value()}};
 }
 
 StatusCode status_of(const Error& error) {
-  const std::string_view message = error.message;
-  const auto end = message.find_first_of(": ");
-  if (end != std::string_view::npos) {
-    if (auto code = status_code_from_name(message.substr(0, end))) {
-      return *code;
-    }
+  if (error.protocol_code && error.protocol_code->table == kStatusCodeTable) {
+    return StatusCode(error.protocol_code->value);
   }
   return status_of_errc(error.code);
 }

@@ -46,10 +46,19 @@ TEST(StatusCodes, ErrorsRoundTripTheirStatusCode) {
   EXPECT_EQ(e.message, "BadTcpMessageTooLarge: chunk of 70000 bytes");
   EXPECT_EQ(e.code, Errc::limit_exceeded);
   EXPECT_EQ(status_of(e), status::BadTcpMessageTooLarge);
-  // Errors from other modules map by their Errc.
+  // Errors from other modules map by their Errc; their text is never read for a code.
   EXPECT_EQ(status_of(Error{Errc::malformed, "x"}), status::BadDecodingError);
   EXPECT_EQ(status_of(Error{Errc::timeout, "x"}), status::BadTimeout);
-  EXPECT_EQ(status_of(Error{Errc::remote, "Bad: looks like a name"}), status::Bad);
+  EXPECT_EQ(status_of(Error{Errc::remote, "BadNodeIdUnknown: only the text says so"}),
+            status::BadUnexpectedError);
+}
+
+// The code is typed, so the context added on the way up does not lose it.
+TEST(StatusCodes, ContextKeepsTheStatusCode) {
+  const Error e =
+      status_error(status::BadNodeIdUnknown, "ns=1;s=x").with_context("Read").with_context("plc7");
+  EXPECT_EQ(status_of(e), status::BadNodeIdUnknown);
+  EXPECT_EQ(e.message, "plc7: Read: BadNodeIdUnknown: ns=1;s=x");
 }
 
 TEST(NodeIds, NamesLookUpBothWays) {

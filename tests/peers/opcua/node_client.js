@@ -1,4 +1,4 @@
-// node-opcua as the client peer of our OPC UA server: runs the demo-model scenario of issue 5
+// node-opcua as the client peer of our OPC UA server: runs the demo-model scenario
 // against URL and prints one JSON object with everything it saw, which
 // tests/integration/opcua_interop_test.py asserts.
 //

@@ -1,4 +1,4 @@
-// node-opcua as a secured client (issue 6): for each case POLICY:MODE:USER it connects to URL with
+// node-opcua as a secured client (OPC 10000-2 §4): for each case POLICY:MODE:USER it connects to URL with
 // that security policy and mode, logs in (anonymous, or USER with its password from --password
 // USER=PASS) and reads, writes and calls on the demo model; prints one JSON line per case, which
 // tests/integration/opcua_security_test.py and bench/bench_opcua_security assert or time.

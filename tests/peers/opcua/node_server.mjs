@@ -8,7 +8,7 @@
 //                         read-only, all with a new value every 100 ms (variable i at step s:
 //                         s + i/1000), as `smartfactory opcua server --bench-variables N`
 //       --max-sessions N  sessions and connections the server accepts (node-opcua's default: 10)
-//       --secure DIR      for the security interop tests (issue 6): endpoints Basic256Sha256,
+//       --secure DIR      for the security interop tests: endpoints Basic256Sha256,
 //                         Aes128_Sha256_RsaOaep and Aes256_Sha256_RsaPss in Sign and SignAndEncrypt
 //                         (and None, for discovery) with the PKI folder DIR (node-opcua's layout:
 //                         own/, trusted/certs, rejected/; unknown client certificates are refused)
@@ -18,7 +18,8 @@
 // "READY <port>" on stdout once it accepts connections, and exits when stdin closes (so a test
 // that dies takes its server with it). Everything else goes to stderr.
 //
-// Demo model (issue 5): namespace "urn:smartfactory:demo", object Demo under Objects with
+// Demo model (as `smartfactory opcua server --demo-model`): namespace "urn:smartfactory:demo",
+// object Demo under Objects with
 //   Temperature  Double, read-only, changes every 100 ms       ns=<i>;s=Demo.Temperature
 //   Counter      Int32, read-write                             ns=<i>;s=Demo.Counter
 //   Multiply(a: Double, b: Double) -> Double                   ns=<i>;s=Demo.Multiply

@@ -53,96 +53,17 @@ const CommandInfo* info(Command c) {
   return i < kCommands.size() ? &kCommands[i] : nullptr;
 }
 
-// Where the EtherCAT header starts: after the MAC addresses, an optional
-// 802.1Q tag and the EtherType. Checks the EtherType.
-Result<std::size_t> ecat_header_offset(ByteSpan bytes) {
-  if (bytes.size() < kEthernetHeaderSize + kEcatHeaderSize) {
-    return make_error(Errc::malformed, fmt::format("frame of {} bytes is shorter than the Ethernet and "
-                                                   "EtherCAT headers ({} bytes)",
-                                                   bytes.size(), kEthernetHeaderSize + kEcatHeaderSize));
-  }
-  std::size_t type_at = 12;
-  std::uint16_t ethertype = static_cast<std::uint16_t>((bytes[12] << 8U) | bytes[13]);
-  if (ethertype == kVlanEtherType) {
-    type_at += kVlanTagSize;
-    if (bytes.size() < type_at + 2 + kEcatHeaderSize) {
-      return make_error(Errc::malformed, "VLAN-tagged frame truncated before the EtherCAT header");
-    }
-    ethertype = static_cast<std::uint16_t>((bytes[type_at] << 8U) | bytes[type_at + 1]);
-  }
-  if (ethertype != kEtherType) {
-    return make_error(Errc::malformed, fmt::format("EtherType 0x{:04X} is not EtherCAT (0x88A4)", ethertype));
-  }
-  return type_at + 2;
-}
-
-// One datagram's place in a frame buffer.
-struct DatagramSpan {
-  std::size_t offset;  // of the datagram header
-  std::size_t length;  // data length
-  bool more;
-};
-
-// Walks the datagram chain by the M bits, checking every length against the
-// EtherCAT header length and the buffer. No byte outside `bytes` is read.
-Result<std::vector<DatagramSpan>> walk_datagrams(ByteSpan bytes) {
-  auto header_at = ecat_header_offset(bytes);
-  if (!header_at) {
-    return header_at.error();
-  }
-  const std::size_t ecat = *header_at;
-  const auto ecat_header = load_le<std::uint16_t>(bytes.data() + ecat);
-  const unsigned type = ecat_header >> kEcatTypeShift;
-  if (type != kEcatTypeCommands) {
-    return make_error(Errc::unsupported,
-                      fmt::format("EtherCAT header type {} is not 1 (EtherCAT commands)", type));
-  }
-  const std::size_t declared = ecat_header & kEcatLengthMask;
-  const std::size_t body = ecat + kEcatHeaderSize;
-  if (declared > bytes.size() - body) {
-    return make_error(Errc::malformed, fmt::format("EtherCAT header length {} exceeds the {} bytes after it",
-                                                   declared, bytes.size() - body));
-  }
-  if (declared == 0) {
-    return make_error(Errc::malformed, "EtherCAT header length is 0: no datagrams");
-  }
-  std::vector<DatagramSpan> spans;
-  std::size_t pos = body;
-  const std::size_t end = body + declared;
-  bool more = true;
-  while (more) {
-    const std::size_t n = spans.size();
-    if (end - pos < kDatagramOverhead) {
-      return make_error(Errc::malformed,
-                        fmt::format("datagram {}: header and WKC need {} bytes, only {} left of the "
-                                    "EtherCAT length {}",
-                                    n, kDatagramOverhead, end - pos, declared));
-    }
-    const auto len_field = load_le<std::uint16_t>(bytes.data() + pos + kLenOffset);
-    const std::size_t len = len_field & kLenMask;
-    if (len > end - pos - kDatagramOverhead) {
-      return make_error(Errc::malformed,
-                        fmt::format("datagram {} ({}): data length {} exceeds the {} bytes left of the "
-                                    "EtherCAT length {}",
-                                    n, to_string(static_cast<Command>(bytes[pos])), len,
-                                    end - pos - kDatagramOverhead, declared));
-    }
-    more = (len_field & kMoreBit) != 0;
-    spans.push_back({pos, len, more});
-    pos += kDatagramOverhead + len;
-    if (more && pos == end) {
-      return make_error(Errc::malformed, fmt::format("datagram {}: M (more) bit set but the EtherCAT length "
-                                                     "{} ends after it",
-                                                     n, declared));
-    }
-  }
-  if (pos != end) {
+// Checks that the datagrams fill the EtherCAT length exactly (ETG.1000.4 §5.3): the codec
+// accepts no trailing bytes inside it.
+Result<DatagramChain> walk_datagrams(ByteSpan bytes) {
+  auto chain = for_each_datagram(bytes, [](const DatagramSpan&) {});
+  if (chain && chain->end != chain->body + chain->declared) {
     return make_error(Errc::malformed,
                       fmt::format("datagrams end at byte {} (last datagram {} has no M bit) but "
                                   "the EtherCAT length says {}",
-                                  pos - body, spans.size() - 1, declared));
+                                  chain->end - chain->body, chain->count - 1, chain->declared));
   }
-  return spans;
+  return chain;
 }
 
 Status check_encodable(const Frame& frame) {
@@ -194,6 +115,80 @@ void write_frame(const Frame& frame, SpanWriter& w, std::size_t body_length) {
 }
 
 }  // namespace
+
+Result<EcatHeader> ecat_header(ByteSpan bytes) {
+  if (bytes.size() < kEthernetHeaderSize + kEcatHeaderSize) {
+    return make_error(Errc::malformed, fmt::format("frame of {} bytes is shorter than the Ethernet and "
+                                                   "EtherCAT headers ({} bytes)",
+                                                   bytes.size(), kEthernetHeaderSize + kEcatHeaderSize));
+  }
+  std::size_t type_at = 12;
+  std::uint16_t ethertype = static_cast<std::uint16_t>((bytes[12] << 8U) | bytes[13]);
+  if (ethertype == kVlanEtherType) {
+    type_at += kVlanTagSize;
+    if (bytes.size() < type_at + 2 + kEcatHeaderSize) {
+      return make_error(Errc::malformed, "VLAN-tagged frame truncated before the EtherCAT header");
+    }
+    ethertype = static_cast<std::uint16_t>((bytes[type_at] << 8U) | bytes[type_at + 1]);
+  }
+  if (ethertype != kEtherType) {
+    return make_error(Errc::malformed, fmt::format("EtherType 0x{:04X} is not EtherCAT (0x88A4)", ethertype));
+  }
+  return EcatHeader{type_at + 2, load_le<std::uint16_t>(bytes.data() + type_at + 2)};
+}
+
+namespace detail {
+
+Result<DatagramChain> chain_start(ByteSpan bytes) {
+  auto header = ecat_header(bytes);
+  if (!header) {
+    return header.error();
+  }
+  if (header->type() != kEcatTypeCommands) {
+    return make_error(Errc::unsupported,
+                      fmt::format("EtherCAT header type {} is not 1 (EtherCAT commands)", header->type()));
+  }
+  DatagramChain chain;
+  chain.body = header->offset + kEcatHeaderSize;
+  chain.declared = header->length();
+  if (chain.declared > bytes.size() - chain.body) {
+    return make_error(Errc::malformed, fmt::format("EtherCAT header length {} exceeds the {} bytes after it",
+                                                   chain.declared, bytes.size() - chain.body));
+  }
+  if (chain.declared == 0) {
+    return make_error(Errc::malformed, "EtherCAT header length is 0: no datagrams");
+  }
+  return chain;
+}
+
+Result<DatagramSpan> datagram_at(ByteSpan bytes, std::size_t pos, const DatagramChain& chain) {
+  const std::size_t end = chain.body + chain.declared;
+  const std::size_t n = chain.count;
+  if (end - pos < kDatagramOverhead) {
+    return make_error(Errc::malformed,
+                      fmt::format("datagram {}: header and WKC need {} bytes, only {} left of the "
+                                  "EtherCAT length {}",
+                                  n, kDatagramOverhead, end - pos, chain.declared));
+  }
+  const auto len_field = load_le<std::uint16_t>(bytes.data() + pos + kLenOffset);
+  const std::size_t len = len_field & kLenMask;
+  if (len > end - pos - kDatagramOverhead) {
+    return make_error(Errc::malformed,
+                      fmt::format("datagram {} ({}): data length {} exceeds the {} bytes left of the "
+                                  "EtherCAT length {}",
+                                  n, to_string(static_cast<Command>(bytes[pos])), len,
+                                  end - pos - kDatagramOverhead, chain.declared));
+  }
+  const bool more = (len_field & kMoreBit) != 0;
+  if (more && pos + kDatagramOverhead + len == end) {
+    return make_error(Errc::malformed, fmt::format("datagram {}: M (more) bit set but the EtherCAT length "
+                                                   "{} ends after it",
+                                                   n, chain.declared));
+  }
+  return DatagramSpan{pos, len, more};
+}
+
+}  // namespace detail
 
 std::string_view to_string(Command c) {
   const CommandInfo* i = info(c);
@@ -262,22 +257,26 @@ Result<Bytes> encode(const Frame& frame) {
 }
 
 Result<Frame> decode(ByteSpan bytes) {
-  auto spans = walk_datagrams(bytes);
-  if (!spans) {
-    return spans.error().with_context("EtherCAT frame");
+  auto chain = walk_datagrams(bytes);
+  if (!chain) {
+    return chain.error().with_context("EtherCAT frame");
   }
   Frame frame;
   std::copy_n(bytes.begin(), 6, frame.destination.begin());
   std::copy_n(bytes.begin() + 6, 6, frame.source.begin());
-  frame.datagrams.reserve(spans->size());
-  for (const auto& s : *spans) {
+  frame.datagrams.reserve(chain->count);
+  std::optional<Error> unknown;  // the first datagram with an undefined command
+  (void)for_each_datagram(bytes, [&](const DatagramSpan& s) {
     ByteReader r(bytes.subspan(s.offset, kDatagramOverhead + s.length));
-    Datagram d;
     const std::uint8_t cmd = r.u8();
     if (info(static_cast<Command>(cmd)) == nullptr) {
-      return make_error(Errc::malformed, fmt::format("EtherCAT frame: datagram {}: unknown command {}",
-                                                     frame.datagrams.size(), cmd));
+      if (!unknown) {
+        unknown = make_error(Errc::malformed, fmt::format("EtherCAT frame: datagram {}: unknown command {}",
+                                                          frame.datagrams.size(), cmd));
+      }
+      return;
     }
+    Datagram& d = frame.datagrams.emplace_back();
     d.command = static_cast<Command>(cmd);
     d.index = r.u8();
     d.address = r.u32();
@@ -286,21 +285,22 @@ Result<Frame> decode(ByteSpan bytes) {
     const ByteSpan data = r.bytes(s.length);
     d.data.assign(data.begin(), data.end());
     d.wkc = r.u16();
-    frame.datagrams.push_back(std::move(d));
+  });
+  if (unknown) {
+    return *unknown;
   }
   return frame;
 }
 
 Result<std::vector<DatagramView>> datagram_views(MutableByteSpan frame) {
-  auto spans = walk_datagrams(frame);
-  if (!spans) {
-    return spans.error().with_context("EtherCAT frame");
+  auto chain = walk_datagrams(frame);
+  if (!chain) {
+    return chain.error().with_context("EtherCAT frame");
   }
   std::vector<DatagramView> views;
-  views.reserve(spans->size());
-  for (const auto& s : *spans) {
-    views.emplace_back(frame.data() + s.offset, s.length);
-  }
+  views.reserve(chain->count);
+  (void)for_each_datagram(
+      frame, [&](const DatagramSpan& s) { views.emplace_back(frame.data() + s.offset, s.length); });
   return views;
 }
 

@@ -15,21 +15,6 @@
 namespace sf::ethercat::master {
 namespace {
 
-int rank(AlState s) {
-  switch (s) {
-    case AlState::Init:
-      return 0;
-    case AlState::PreOp:
-    case AlState::Bootstrap:
-      return 1;
-    case AlState::SafeOp:
-      return 2;
-    case AlState::Op:
-      return 3;
-  }
-  return 0;
-}
-
 // The next state to request on the way from `from` to `to`: up one state at
 // a time; down in one step; BOOT only from and to INIT (ETG.1000.6 §6.4.1).
 AlState next_toward(AlState from, AlState to) {

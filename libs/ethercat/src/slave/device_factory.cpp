@@ -1,3 +1,4 @@
+// The device models a segment spec can name, in one table.
 #include <array>
 
 #include <fmt/format.h>
@@ -7,25 +8,53 @@
 namespace sf::ethercat::slave {
 
 namespace {
-constexpr std::array<std::string_view, 3> kKinds = {kSmartControllerKind, kServoKind, kDigitalIoKind};
+
+template <typename Model>
+std::unique_ptr<Device> make(const DeviceOptions& options) {
+  return std::make_unique<Model>(options);
+}
+
+constexpr auto kModels = std::to_array<DeviceKind>({
+    {kSmartControllerKind, "the paper's slave: 8 CiA 402 axes, 32 DI, 32 DO, CoE, DC",
+     &make<SmartController>},
+    {kServoKind, "one CiA 402 axis, CoE, DC", &make<Servo>},
+    {kDigitalIoKind, "8 DI, 8 DO, no mailbox", &make<DigitalIo>},
+});
+
+constexpr auto kNames = [] {
+  std::array<std::string_view, kModels.size()> names{};
+  for (std::size_t i = 0; i < kModels.size(); ++i) {
+    names.at(i) = kModels.at(i).name;
+  }
+  return names;
+}();
+
+}  // namespace
+
+std::span<const DeviceKind> device_models() {
+  return kModels;
 }
 
 std::span<const std::string_view> device_kinds() {
-  return kKinds;
+  return kNames;
+}
+
+Result<const DeviceKind*> find_device_model(std::string_view kind) {
+  for (const auto& model : kModels) {
+    if (model.name == kind) {
+      return &model;
+    }
+  }
+  return make_error(Errc::not_found,
+                    fmt::format("unknown device kind \"{}\" (known: {})", kind, fmt::join(kNames, ", ")));
 }
 
 Result<std::unique_ptr<Device>> make_device(std::string_view kind, const DeviceOptions& options) {
-  if (kind == kSmartControllerKind) {
-    return std::unique_ptr<Device>(std::make_unique<SmartController>(options));
+  auto model = find_device_model(kind);
+  if (!model) {
+    return model.error();
   }
-  if (kind == kServoKind) {
-    return std::unique_ptr<Device>(std::make_unique<Servo>(options));
-  }
-  if (kind == kDigitalIoKind) {
-    return std::unique_ptr<Device>(std::make_unique<DigitalIo>(options));
-  }
-  return make_error(Errc::not_found,
-                    fmt::format("unknown device kind \"{}\" (known: {})", kind, fmt::join(kKinds, ", ")));
+  return (*model)->make(options);
 }
 
 }  // namespace sf::ethercat::slave

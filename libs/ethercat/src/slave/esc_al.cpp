@@ -14,22 +14,6 @@ constexpr std::uint16_t code(AlStatusCode c) {
   return static_cast<std::uint16_t>(c);
 }
 
-// Order of the states for "higher"/"lower" (BOOT sits beside PREOP).
-int rank(AlState s) {
-  switch (s) {
-    case AlState::Init:
-      return 0;
-    case AlState::PreOp:
-    case AlState::Bootstrap:
-      return 1;
-    case AlState::SafeOp:
-      return 2;
-    case AlState::Op:
-      return 3;
-  }
-  return 0;
-}
-
 constexpr std::size_t kMinMailboxSize = kSdoInitiateOverhead;  // header + CoE + SDO initiate
 constexpr std::size_t kMaxMailboxSize = 1024;
 

@@ -3,26 +3,17 @@
 #include "sf/ethercat/slave/segment.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 
 #include <fmt/format.h>
+
+#include "sf/core/text.hpp"
 
 namespace sf::ethercat::slave {
 
 namespace {
 
 constexpr std::size_t kMaxSlaves = 0xFFFF;  // auto-increment addresses are 16 bits
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())) != 0) {
-    s.remove_prefix(1);
-  }
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())) != 0) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
 
 Result<SegmentSpecItem> parse_item(std::string_view item, std::size_t n) {
   const auto where = [n](std::string_view what) {
@@ -37,9 +28,8 @@ Result<SegmentSpecItem> parse_item(std::string_view item, std::size_t n) {
   if (kind.empty()) {
     return where("missing device kind");
   }
-  if (std::find(device_kinds().begin(), device_kinds().end(), kind) == device_kinds().end()) {
-    return where(
-        fmt::format("unknown device kind \"{}\" (known: {})", kind, fmt::join(device_kinds(), ", ")));
+  if (auto model = find_device_model(kind); !model) {
+    return where(model.error().message);
   }
   out.kind = std::string(kind);
   if (colon != std::string_view::npos) {
@@ -62,10 +52,6 @@ Result<SegmentSpecItem> parse_item(std::string_view item, std::size_t n) {
 
 std::int64_t ns_of(Clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-}
-
-std::uint16_t load_be16(const std::uint8_t* p) {
-  return static_cast<std::uint16_t>((std::uint16_t{p[0]} << 8U) | p[1]);
 }
 
 }  // namespace
@@ -121,9 +107,7 @@ Result<std::unique_ptr<Segment>> Segment::create(std::string_view spec, const Cl
 }
 
 Segment::Segment(const Clock& clock, SegmentOptions options)
-    : clock_(&clock), options_(options), rng_(options.seed) {
-  datagrams_.reserve(kMaxFrameSize / kDatagramOverhead);
-}
+    : clock_(&clock), options_(options), rng_(options.seed) {}
 
 Esc& Segment::add(std::unique_ptr<Device> device) {
   EscOptions esc = options_.esc;
@@ -206,43 +190,18 @@ bool Segment::process(MutableByteSpan frame) {
 }
 
 bool Segment::process_locked(MutableByteSpan frame) {
-  // Ethernet header (one optional 802.1Q tag), EtherType 0x88A4, EtherCAT
-  // header (ETG.1000.4 §5.3: length 10:0, type 15:12), then the datagrams.
-  std::size_t at = 12;
-  if (frame.size() >= at + 2 && load_be16(&frame[at]) == kVlanEtherType) {
-    at += kVlanTagSize;
-  }
-  if (frame.size() < at + 2 + kEcatHeaderSize || load_be16(&frame[at]) != kEtherType) {
+  // An ESC passes frames of other EtherCAT types on without acting on them; it acts on no
+  // datagram of a malformed chain (checked in a first walk). It ignores bytes after the last
+  // datagram inside the EtherCAT length.
+  const auto header = ecat_header(frame);
+  if (!header) {
     ++counters_.malformed;
     return false;
   }
-  at += 2;
-  const auto header = load_le<std::uint16_t>(&frame[at]);
-  const std::size_t length = header & 0x07FFU;
-  const bool commands = (header >> 12U) == kEcatTypeCommands;
-  at += kEcatHeaderSize;
-  datagrams_.clear();
-  if (commands) {
-    const std::size_t end = at + length;
-    if (end > frame.size()) {
-      ++counters_.malformed;
-      return false;
-    }
-    for (bool more = true; more;) {
-      if (at + kDatagramHeaderSize > end) {
-        ++counters_.malformed;
-        return false;
-      }
-      const auto len_field = load_le<std::uint16_t>(&frame[at + 6]);
-      const std::size_t data = len_field & 0x07FFU;
-      more = (len_field & 0x8000U) != 0;
-      if (at + kDatagramOverhead + data > end) {
-        ++counters_.malformed;
-        return false;
-      }
-      datagrams_.emplace_back(static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(data));
-      at += kDatagramOverhead + data;
-    }
+  const bool commands = header->type() == kEcatTypeCommands;
+  if (commands && !for_each_datagram(frame, [](const DatagramSpan&) {})) {
+    ++counters_.malformed;
+    return false;
   }
   // The slaves a frame reaches: connected ones, up to a closed port 1.
   chain_.clear();
@@ -283,8 +242,10 @@ bool Segment::process_locked(MutableByteSpan frame) {
   for (std::size_t k = 0; k < n; ++k) {
     Esc& esc = *slaves_[chain_[k]].esc;
     esc.begin_frame(passes_[k]);
-    for (const auto& [offset, data] : datagrams_) {
-      esc.process(DatagramView(frame.data() + offset, data));
+    if (commands) {
+      (void)for_each_datagram(frame, [&](const DatagramSpan& d) {
+        esc.process(DatagramView(frame.data() + d.offset, d.length));
+      });
     }
     esc.end_frame();
   }

@@ -370,6 +370,33 @@ TEST(DatagramViews, ExposeAndModifyTheFrameInPlace) {
   EXPECT_EQ(back->datagrams[1].wkc, 3);
 }
 
+// The shared walk: datagrams in order with their places, the chain's bounds, trailing bytes
+// inside the EtherCAT length visible to callers (the codec refuses them, an ESC ignores them).
+TEST(ForEachDatagram, VisitsEveryDatagramInOrderAndReportsTheChain) {
+  Bytes wire = ethernet_and_ecat_header(12 + 2 + 12 + 3 + 4);  // two datagrams and 4 bytes more
+  const Bytes first = datagram_bytes(7, 1, {0, 0, 0, 0}, Bytes(2), true, 0);
+  const Bytes second = datagram_bytes(12, 2, {0, 0, 1, 0}, Bytes{1, 2, 3}, false, 0);
+  wire.insert(wire.end(), first.begin(), first.end());
+  wire.insert(wire.end(), second.begin(), second.end());
+  wire.insert(wire.end(), {0, 0, 0, 0});
+  std::vector<std::pair<std::size_t, std::size_t>> seen;
+  auto chain = for_each_datagram(wire, [&](const DatagramSpan& d) { seen.emplace_back(d.offset, d.length); });
+  ASSERT_TRUE(chain) << chain.error().describe();
+  EXPECT_EQ(seen, (std::vector<std::pair<std::size_t, std::size_t>>{{16, 2}, {30, 3}}));
+  EXPECT_EQ(chain->count, 2U);
+  EXPECT_EQ(chain->body, 16U);
+  EXPECT_EQ(chain->end, 45U);
+  EXPECT_EQ(chain->declared, 33U);
+  EXPECT_FALSE(decode(wire));  // the codec wants the length filled exactly
+
+  wire[16 + 6] = 100;  // the first datagram now claims more data than there is
+  seen.clear();
+  auto bad = for_each_datagram(wire, [&](const DatagramSpan& d) { seen.emplace_back(d.offset, d.length); });
+  ASSERT_FALSE(bad);
+  EXPECT_THAT(bad.error().message, HasSubstr("datagram 0"));
+  EXPECT_TRUE(seen.empty());
+}
+
 TEST(DatagramViews, RejectMalformedFramesWithoutTouchingThem) {
   Bytes wire = single_datagram_frame(1, {0, 0, 0, 0}, Bytes(2), 0);
   wire[16 + 6] = 100;

@@ -55,6 +55,14 @@ TEST(AlState, NamesAndBits) {
   EXPECT_EQ(kAlStateErrorFlag, 0x10);
 }
 
+// One order for master and slave: INIT < PREOP = BOOT < SAFEOP < OP (ETG.1000.6 §6.4.1).
+TEST(AlState, RankOrdersTheStatesWithBootBesidePreOp) {
+  static_assert(rank(AlState::Init) < rank(AlState::PreOp));
+  static_assert(rank(AlState::PreOp) < rank(AlState::SafeOp));
+  static_assert(rank(AlState::SafeOp) < rank(AlState::Op));
+  EXPECT_EQ(rank(AlState::Bootstrap), rank(AlState::PreOp));
+}
+
 TEST(AlStatus, EncodesStateErrorAndIdBits) {
   const AlStatus s = AlStatus::of(AlState::SafeOp, true);
   EXPECT_EQ(s.encode(), 0x0014);

@@ -45,6 +45,24 @@ TEST(SegmentSpec, ErrorsNameTheProblem) {
   EXPECT_FALSE(Segment::create("servo:1,robot", clock).ok());
 }
 
+// The one table of device models: every row makes a device of its own kind, and the names the
+// spec parser and the CLI's help list are the table's.
+TEST(DeviceModels, EveryModelMakesADeviceOfItsKind) {
+  const auto models = device_models();
+  ASSERT_EQ(models.size(), device_kinds().size());
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    EXPECT_EQ(models[i].name, device_kinds()[i]);
+    EXPECT_FALSE(models[i].summary.empty());
+    auto device = make_device(models[i].name);
+    ASSERT_TRUE(device.ok()) << models[i].name;
+    EXPECT_EQ((*device)->kind(), models[i].name);
+    EXPECT_TRUE(parse_segment_spec(std::string(models[i].name) + ":2").ok());
+  }
+  const auto unknown = make_device("robot");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error().code, Errc::not_found);
+}
+
 TEST(Segment, CreatesDevicesInOrderWithCountingSerials) {
   ManualClock clock;
   SegmentOptions options;

@@ -35,7 +35,9 @@ namespace sf::opcua::client_detail {
 template <typename T>
 Error error_of(const Result<T>& result) {
   const Error& error = result.error();
-  return Error(error.code, error.message);
+  Error copy(error.code, error.message);
+  copy.protocol_code = error.protocol_code;
+  return copy;
 }
 
 // The response type of each request the client sends.
@@ -207,7 +209,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   void discovery_request(Request request, std::function<void(Result<Response>)> finish);
 
   // ---- security (secure_session.cpp) ----
-  // Policy None/None and no discovery: what issue 5's client did.
+  // Policy None/None and no discovery (GetEndpoints is skipped).
   [[nodiscard]] bool plain() const;
   // GetEndpoints over a None channel, then the endpoint to use with its certificate checked.
   void discover_endpoint(std::uint64_t generation, std::function<void(Result<EndpointDescription>)> done);

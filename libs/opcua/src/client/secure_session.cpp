@@ -1,4 +1,4 @@
-// The client's security (issue 6): endpoint selection and the server certificate check
+// The client's security (OPC 10000-2 §4): endpoint selection and the server certificate check
 // (OPC 10000-4 §5.4.4, §6.1.3), the secured channel, CreateSession's signature and endpoint
 // list (§5.6.2), ActivateSession's signature and user identity tokens (§5.6.3, §7.40).
 #include <algorithm>

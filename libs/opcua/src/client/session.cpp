@@ -75,7 +75,7 @@ RequestHeader Client::Impl::make_header(std::chrono::milliseconds timeout) {
   if (session) {
     header.authentication_token = session->authentication_token;
   }
-  header.timestamp = DateTime::from_system_clock(std::chrono::system_clock::now());
+  header.timestamp = DateTime::from_system_clock(loop.clock().utc_now());
   header.request_handle = next_request_handle++;
   if (next_request_handle == 0) {
     next_request_handle = 1;

@@ -13,6 +13,7 @@
 
 #include "openssl.hpp"
 #include "sf/core/log.hpp"
+#include "sf/core/text.hpp"
 #include "sf/opcua/security/pki.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -276,8 +277,8 @@ Status check_host_name(const ByteString& certificate, std::string_view host) {
   if (!info) {
     return info.error();
   }
-  const std::string wanted = ossl::lower(host);
-  const auto same = [&wanted](const std::string& name) { return ossl::lower(name) == wanted; };
+  const std::string wanted = lower(host);
+  const auto same = [&wanted](const std::string& name) { return lower(name) == wanted; };
   if (std::any_of(info->dns_names.begin(), info->dns_names.end(), same) ||
       std::any_of(info->ip_addresses.begin(), info->ip_addresses.end(), same)) {
     return {};

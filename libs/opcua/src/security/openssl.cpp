@@ -7,7 +7,6 @@
 #include <openssl/rsa.h>
 
 #include <algorithm>
-#include <cctype>
 #include <climits>
 
 #include <fmt/format.h>
@@ -418,13 +417,6 @@ std::string hex(ByteSpan bytes) {
     out.push_back(kDigits[b >> 4U]);
     out.push_back(kDigits[b & 0x0FU]);
   }
-  return out;
-}
-
-std::string lower(std::string_view text) {
-  std::string out(text);
-  std::transform(out.begin(), out.end(), out.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return out;
 }
 

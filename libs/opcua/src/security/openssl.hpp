@@ -100,7 +100,5 @@ Result<Bytes> random_bytes(std::size_t size);
 Result<Bytes> base64_decode(std::string_view text);
 std::string base64_encode(ByteSpan bytes);
 std::string hex(ByteSpan bytes);
-// ASCII lower case (URIs, policy names and thumbprints compare without case).
-std::string lower(std::string_view text);
 
 }  // namespace sf::opcua::security::ossl

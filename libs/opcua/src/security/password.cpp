@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "openssl.hpp"
+#include "sf/core/text.hpp"
 #include "sf/opcua/security/users.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -27,19 +28,6 @@ struct Encoded {
 // Bounds for parameters read from a file, so a hostile file cannot ask for gigabytes.
 bool sane(const PasswordHashParams& p) {
   return p.log2_n >= 1 && p.log2_n <= 20 && p.r >= 1 && p.r <= 32 && p.p >= 1 && p.p <= 16;
-}
-
-std::vector<std::string_view> split(std::string_view text, char separator) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (true) {
-    const auto at = text.find(separator, start);
-    out.push_back(text.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
-    if (at == std::string_view::npos) {
-      return out;
-    }
-    start = at + 1;
-  }
 }
 
 bool parse_param(std::string_view field, std::string_view name, unsigned& value) {

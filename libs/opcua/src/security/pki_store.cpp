@@ -13,6 +13,7 @@
 
 #include "openssl.hpp"
 #include "sf/core/log.hpp"
+#include "sf/core/text.hpp"
 #include "sf/opcua/security/pki.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -188,7 +189,7 @@ Result<fs::path> PkiStore::add(Folder folder, const ByteString& certificate) con
 }
 
 Result<fs::path> PkiStore::move(std::string_view thumbprint, Folder from, Folder to) const {
-  const std::string wanted = ossl::lower(thumbprint);
+  const std::string wanted = lower(thumbprint);
   if (wanted.size() < kMinThumbprintPrefix) {
     return make_error(Errc::invalid_argument,
                       fmt::format("give at least {} hex digits of the thumbprint", kMinThumbprintPrefix));

@@ -7,12 +7,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 
 #include <fmt/format.h>
 
 #include "openssl.hpp"
 #include "policy_spec.hpp"
+#include "sf/core/text.hpp"
 #include "sf/opcua/status_codes.hpp"
 
 namespace sf::opcua::security {
@@ -217,11 +217,11 @@ std::shared_ptr<const SecurityPolicyRegistry> full_registry() {
 }
 
 Result<std::string> policy_uri_from_name(std::string_view name) {
-  const std::string wanted = ossl::lower(name);
+  const std::string wanted = lower(name);
   std::vector<std::string> all = secure_policy_uris();
   all.emplace_back(kSecurityPolicyNoneUri);
   for (const auto& uri : all) {
-    if (wanted == ossl::lower(uri) || wanted == ossl::lower(policy_name(uri))) {
+    if (wanted == lower(uri) || wanted == lower(policy_name(uri))) {
       return uri;
     }
   }

@@ -9,6 +9,7 @@
 
 #include "openssl.hpp"
 #include "sf/core/config.hpp"
+#include "sf/core/text.hpp"
 #include "sf/opcua/security/certificate.hpp"
 #include "sf/opcua/security/users.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -89,7 +90,7 @@ Result<User> read_user(const config::Node& node) {
   }
   user.name = std::move(*name);
   user.password_hash = std::move(*password);
-  user.certificate = ossl::lower(*certificate);
+  user.certificate = lower(*certificate);
   user.roles = std::move(*roles);
   return user;
 }
@@ -293,7 +294,7 @@ Status UserDatabase::put(User user) {
       return make_error(Errc::invalid_argument, fmt::format("unknown role '{}'", role));
     }
   }
-  user.certificate = ossl::lower(user.certificate);
+  user.certificate = lower(user.certificate);
   remove(user.name);
   users_.push_back(std::move(user));
   return {};

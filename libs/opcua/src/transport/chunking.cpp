@@ -152,11 +152,11 @@ Result<ByteSpan> open_chunk(ByteSpan chunk, std::size_t header_size, const Messa
 }
 
 std::string reason_of(const Error& error) {
-  const std::string_view name = status_of(error).name();
+  // status_error put the code's name in front of the message; the reason is what follows.
+  const std::string prefix = to_string(status_of(error)) + ": ";
   const std::string_view message = error.message;
-  if (!name.empty() && message.size() > name.size() + 2 && message.substr(0, name.size()) == name &&
-      message.substr(name.size(), 2) == ": ") {
-    return std::string(message.substr(name.size() + 2));
+  if (error.protocol_code && message.starts_with(prefix)) {
+    return std::string(message.substr(prefix.size()));
   }
   return error.message;
 }

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "channel_timer.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -17,7 +18,6 @@ const sf::log::Logger& logger() {
   return log;
 }
 
-constexpr std::chrono::milliseconds kMaxTimerDelay{1000};
 constexpr std::uint16_t kDefaultPort = 4840;
 
 bool starts_with_ci(std::string_view text, std::string_view prefix) {
@@ -363,22 +363,18 @@ const TransportLimits& ClientChannel::negotiated_limits() const {
 }
 
 void ClientChannel::arm_timer() {
-  cancel_timer(tick_timer_);
-  const auto deadline = channel_.next_deadline();
-  if (!deadline || closed_) {
-    return;
-  }
-  const auto delay =
-      std::clamp(std::chrono::duration_cast<std::chrono::nanoseconds>(*deadline - clock_.now()),
-                 std::chrono::nanoseconds{0}, std::chrono::nanoseconds{kMaxTimerDelay});
-  std::weak_ptr<ClientChannel> weak = weak_from_this();
-  tick_timer_ = loop_.add_timer(delay, [weak] {
-    if (auto self = weak.lock()) {
-      self->tick_timer_ = 0;
-      self->channel_.on_timer();
-      self->pump();
-    }
-  });
+  detail::arm_channel_timer(loop_, clock_, tick_timer_, closed_ ? std::nullopt : channel_.next_deadline(),
+                            [weak = weak_from_this()] {
+                              if (auto self = weak.lock()) {
+                                self->on_channel_timer();
+                              }
+                            });
+}
+
+void ClientChannel::on_channel_timer() {
+  tick_timer_ = 0;
+  channel_.on_timer();
+  pump();
 }
 
 }  // namespace sf::opcua

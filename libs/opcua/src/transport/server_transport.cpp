@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "channel_timer.hpp"
 #include "sf/core/log.hpp"
 #include "sf/net/tcp.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -17,9 +18,6 @@ const sf::log::Logger& logger() {
   static const auto log = sf::log::get("opcua");
   return log;
 }
-
-// Timers are re-armed at least this often so a ManualClock that jumps is noticed.
-constexpr std::chrono::milliseconds kMaxTimerDelay{1000};
 
 class ServerConnection;
 
@@ -216,27 +214,19 @@ class ServerConnection final : public ServerChannel, public std::enable_shared_f
   }
 
   void arm_timer() {
-    if (tick_timer_ != 0) {
-      loop_.cancel_timer(tick_timer_);
-      tick_timer_ = 0;
-    }
-    const auto deadline = channel_.next_deadline();
-    if (!deadline || finished_) {
-      return;
-    }
-    const auto delay =
-        std::clamp(std::chrono::duration_cast<std::chrono::nanoseconds>(*deadline - clock_.now()),
-                   std::chrono::nanoseconds{0}, std::chrono::nanoseconds{kMaxTimerDelay});
-    std::weak_ptr<ServerConnection> weak = weak_from_this();
-    tick_timer_ = loop_.add_timer(delay, [weak] {
-      if (auto self = weak.lock()) {
-        self->tick_timer_ = 0;
-        self->channel_.on_timer();
-        self->pump();
-      }
-    });
+    detail::arm_channel_timer(loop_, clock_, tick_timer_, finished_ ? std::nullopt : channel_.next_deadline(),
+                              [weak = weak_from_this()] {
+                                if (auto self = weak.lock()) {
+                                  self->on_channel_timer();
+                                }
+                              });
   }
 
+  void on_channel_timer() {
+    tick_timer_ = 0;
+    channel_.on_timer();
+    pump();
+  }
   void cancel_timers() {
     if (hello_timer_ != 0) {
       loop_.cancel_timer(hello_timer_);

@@ -1,5 +1,5 @@
-// Our client against a node-opcua server with the demo model (issue 5 acceptance: "our client
-// browses, reads, writes, calls and subscribes against a node-opcua server"). Skipped when node
+// Our client against a node-opcua server with the demo model: it browses, reads, writes, calls
+// and subscribes against a server that is not ours. Skipped when node
 // or node_modules is missing.
 #include <gtest/gtest.h>
 

@@ -3,8 +3,6 @@
 // values that callbacks deliver on the loop thread.
 #pragma once
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
@@ -15,7 +13,7 @@
 #include <vector>
 
 #include "../collector.hpp"
-#include "sf/testing/child_process.hpp"
+#include "sf/core/process.hpp"
 
 namespace sf::opcua::test {
 
@@ -26,24 +24,7 @@ inline std::filesystem::path source_dir() {
 }
 
 inline std::optional<std::filesystem::path> find_node() {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "/usr/bin:/usr/local/bin";
-  std::size_t start = 0;
-  while (start <= dirs.size()) {
-    const auto end = dirs.find(':', start);
-    const std::filesystem::path candidate =
-        std::filesystem::path(
-            dirs.substr(start, end == std::string::npos ? std::string::npos : end - start)) /
-        "node";
-    if (::access(candidate.c_str(), X_OK) == 0) {
-      return candidate;
-    }
-    if (end == std::string::npos) {
-      break;
-    }
-    start = end + 1;
-  }
-  return std::nullopt;
+  return find_program("node");
 }
 
 // Why node-opcua tests cannot run here, or nullopt if they can.
@@ -67,23 +48,32 @@ class NodeServer {
       return false;
     }
     const std::string script = (source_dir() / "tests" / "peers" / "opcua" / "node_server.mjs").string();
-    if (!process_.spawn({node->string(), script, std::to_string(port)}, source_dir(),
-                        std::getenv("SF_NODE_SERVER_LOG") != nullptr)) {
+    ProcessOptions o;
+    o.argv = {node->string(), script, std::to_string(port)};
+    o.cwd = source_dir();
+    o.in = Stdio::pipe();
+    o.out = Stdio::pipe();
+    o.err = std::getenv("SF_NODE_SERVER_LOG") != nullptr ? Stdio::inherit() : Stdio::null();
+    auto started = Process::spawn(std::move(o));
+    if (!started) {
       return false;
     }
-    return process_.wait_for_line(
-        [this](const std::string& line) {
-          const auto at = line.find("READY ");
-          if (at != std::string::npos) {
-            port_ = static_cast<std::uint16_t>(std::stoul(line.substr(at + 6)));
-          }
-          return at != std::string::npos;
-        },
-        timeout);
+    process_ = std::move(*started);
+    return process_
+        .wait_for_line(
+            [this](const std::string& line) {
+              const auto at = line.find("READY ");
+              if (at != std::string::npos) {
+                port_ = static_cast<std::uint16_t>(std::stoul(line.substr(at + 6)));
+              }
+              return at != std::string::npos;
+            },
+            timeout)
+        .ok();
   }
 
   // Closes stdin (an orderly shutdown); SIGKILL if it is not gone within a few seconds.
-  void stop() { process_.stop(false); }
+  void stop() { process_.close_and_wait(std::chrono::seconds(10)); }
   // The server dies at once (no CloseSession, no CLO): the connection just drops.
   void kill() { process_.kill(); }
 
@@ -91,7 +81,7 @@ class NodeServer {
   [[nodiscard]] std::string url() const { return "opc.tcp://127.0.0.1:" + std::to_string(port_); }
 
  private:
-  testing::ChildProcess process_;
+  Process process_;
   std::uint16_t port_ = 0;
 };
 

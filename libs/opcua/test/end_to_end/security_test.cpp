@@ -1,4 +1,4 @@
-// Our client against our server over loopback with security (issue 6): every policy in Sign and
+// Our client against our server over loopback with security (OPC 10000-2 §4): every policy in Sign and
 // SignAndEncrypt with anonymous, user name and certificate logins; wrong passwords, untrusted
 // client certificates (refused, then trusted from rejected/ without a restart), roles (a viewer
 // cannot write or call; a user who may not read a node cannot monitor it), endpoints that are not
@@ -9,10 +9,10 @@
 #include <memory>
 
 #include "../security/test_keys.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/security/pki.hpp"
 #include "sf/opcua/security/policies.hpp"
-#include "sf/opcua/server/demo_model.hpp"
 #include "sf/opcua/server/server.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -79,7 +79,7 @@ class SecureEndToEnd : public ::testing::Test {
     config.security.users = users();
     config.security.anonymous_role = "viewer";
     server_ = std::make_unique<server::Server>(config);
-    ASSERT_TRUE(server::add_demo_model(*server_).ok());
+    ASSERT_TRUE(examples::add_demo_model(*server_).ok());
     ASSERT_TRUE(server_->start().ok());
   }
   void start_all() {
@@ -110,7 +110,7 @@ class SecureEndToEnd : public ::testing::Test {
   }
 
   NodeId demo(SyncClient& c, const char* name) {
-    auto ns = c.namespace_index(server::kDemoNamespaceUri);
+    auto ns = c.namespace_index(examples::kDemoNamespaceUri);
     EXPECT_TRUE(ns.ok());
     return NodeId(ns.ok() ? *ns : 0, String(name));
   }

@@ -2,7 +2,7 @@
 // keyed checksum and a reversible XOR with block expansion) that has the shapes of the real
 // ones — RSA-like asymmetric blocks (11 → 16 bytes, extra padding byte), AES-like symmetric
 // blocks, signatures, nonces, derived keys — so the chunk layout, padding, key derivation and
-// certificate checks that issue 6's OpenSSL policies plug into are exercised now.
+// certificate checks that the OpenSSL policies plug into are exercised without them.
 #include "sf/opcua/transport/security_policy.hpp"
 
 #include <gtest/gtest.h>

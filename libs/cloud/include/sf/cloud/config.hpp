@@ -59,7 +59,7 @@ struct SubscribeRule {
   unsigned depth = 3;
 };
 
-// How the gateway connects to a server (issue 6). The gateway hands these to
+// How the gateway connects to a server (OPC 10000-4 §5.4.4, §5.6.3). The gateway hands these to
 // GatewayOptions::configure_client; `smartfactory cloud` applies them with its PKI folder.
 struct ConnectionSecurity {
   std::string security = "auto";  // POLICY:MODE (e.g. Basic256Sha256:SignAndEncrypt), none, auto

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cassert>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -26,16 +28,28 @@ enum class Errc {
 
 std::string_view to_string(Errc code);
 
+// A code a protocol specification defines for a failure (an OPC UA StatusCode, OPC 10000-4
+// §7.39), kept typed as the error travels through the modules: `table` names the code table (a
+// constant of the protocol's module, static storage), `value` the code in it.
+struct ProtocolCode {
+  std::string_view table;
+  std::uint32_t value = 0;
+  friend bool operator==(const ProtocolCode&, const ProtocolCode&) = default;
+};
+
 struct Error {
   Errc code{};
   std::string message;
+  std::optional<ProtocolCode> protocol_code;  // the protocol's own code, when it has one
 
   Error() = default;
   Error(Errc c, std::string msg) : code(c), message(std::move(msg)) {}
+  Error(Errc c, std::string msg, ProtocolCode protocol)
+      : code(c), message(std::move(msg)), protocol_code(protocol) {}
 
   // "malformed: datagram length 300 exceeds frame"
   [[nodiscard]] std::string describe() const;
-  // Prefixes context: Error{...}.with_context("frame 7") → "frame 7: ...".
+  // Prefixes context: Error{...}.with_context("frame 7") → "frame 7: ..."; the codes stay.
   [[nodiscard]] Error with_context(std::string_view context) const;
 };
 

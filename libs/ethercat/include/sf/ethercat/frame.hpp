@@ -138,4 +138,65 @@ class DatagramView {
 // first; nothing is modified. Errors say which datagram is wrong and why.
 Result<std::vector<DatagramView>> datagram_views(MutableByteSpan frame);
 
+// Where one datagram sits in a frame buffer (ETG.1000.4 §5.4): the offset of its header, its
+// data length and its M (more) bit.
+struct DatagramSpan {
+  std::size_t offset = 0;
+  std::size_t length = 0;
+  bool more = false;
+};
+
+// A frame's datagram chain: where the datagrams start (after the EtherCAT header), the EtherCAT
+// header's length, where the last datagram ends and how many there are. A frame whose datagrams
+// end before the EtherCAT length (end < body + declared) carries trailing bytes.
+struct DatagramChain {
+  std::size_t body = 0;
+  std::size_t declared = 0;
+  std::size_t end = 0;
+  std::size_t count = 0;
+};
+
+// The EtherCAT header of a frame: its offset (after the MAC addresses, an optional 802.1Q tag and
+// EtherType 0x88A4, which is checked) and its value (length 10:0, type 15:12; ETG.1000.4 §5.3).
+struct EcatHeader {
+  std::size_t offset = 0;
+  std::uint16_t value = 0;
+  [[nodiscard]] std::size_t length() const { return value & 0x07FFU; }
+  [[nodiscard]] unsigned type() const { return static_cast<unsigned>(value >> 12U); }
+};
+Result<EcatHeader> ecat_header(ByteSpan frame);
+
+namespace detail {
+// The chain's start and EtherCAT length, checked: EtherCAT commands, not empty, within `frame`.
+Result<DatagramChain> chain_start(ByteSpan frame);
+// Datagram number `index` whose header is at `pos`, checked against the chain's end.
+Result<DatagramSpan> datagram_at(ByteSpan frame, std::size_t pos, const DatagramChain& chain);
+}  // namespace detail
+
+// Walks the datagram chain of a frame by the M bits and calls visit(const DatagramSpan&) for
+// each in order, checking every length against the EtherCAT length and the buffer. Reads no
+// byte outside `frame` and allocates nothing: the codec, the master and the emulated ESCs share
+// it. An error may come after some datagrams were visited, so code that must not act on part
+// of a malformed frame walks it once without acting first. Errors say which datagram is wrong.
+template <typename Visit>
+Result<DatagramChain> for_each_datagram(ByteSpan frame, Visit&& visit) {
+  auto chain = detail::chain_start(frame);
+  if (!chain) {
+    return chain.error();
+  }
+  std::size_t pos = chain->body;
+  for (bool more = true; more;) {
+    auto datagram = detail::datagram_at(frame, pos, *chain);
+    if (!datagram) {
+      return datagram.error();
+    }
+    visit(static_cast<const DatagramSpan&>(*datagram));
+    ++chain->count;
+    more = datagram->more;
+    pos = datagram->offset + kDatagramOverhead + datagram->length;
+  }
+  chain->end = pos;
+  return chain;
+}
+
 }  // namespace sf::ethercat

@@ -223,6 +223,23 @@ constexpr PortKind port_kind(std::uint8_t descriptor, unsigned port) {
 enum class AlState : std::uint8_t { Init = 1, PreOp = 2, Bootstrap = 3, SafeOp = 4, Op = 8 };
 inline constexpr std::uint8_t kAlStateErrorFlag = 0x10;
 
+// The order of the states for "higher" and "lower" transitions (ETG.1000.6 §6.4.1): INIT < PREOP
+// < SAFEOP < OP, with BOOT beside PREOP (it is entered and left only through INIT).
+constexpr int rank(AlState s) {
+  switch (s) {
+    case AlState::Init:
+      return 0;
+    case AlState::PreOp:
+    case AlState::Bootstrap:
+      return 1;
+    case AlState::SafeOp:
+      return 2;
+    case AlState::Op:
+      return 3;
+  }
+  return 0;
+}
+
 // "INIT", "PREOP", "BOOT", "SAFEOP", "OP".
 std::string_view to_string(AlState s);
 // Accepts the names above (case-insensitive, also "PRE-OP", "SAFE-OP", "BOOTSTRAP").

@@ -1,6 +1,10 @@
 // EventLoop: a single-threaded reactor over Linux epoll. One thread runs it; every other thread
 // talks to it through post(). Timers live in a min-heap whose earliest deadline bounds the
 // epoll_wait timeout; an eventfd wakes the loop for posted work and stop().
+//
+// Timers read time from the Clock the loop was made with. With a ManualClock a timer runs on the
+// loop's first pass after the clock reached its deadline: advance the clock, then post() anything
+// to wake the loop (epoll_wait still sleeps in real time, bounded by what the clock says is left).
 #pragma once
 
 #include <chrono>
@@ -8,6 +12,8 @@
 #include <functional>
 #include <memory>
 #include <thread>
+
+#include "sf/core/clock.hpp"
 
 namespace sf::net {
 
@@ -19,7 +25,7 @@ class EventLoop {
   // Also reported to watchers (never requested): the peer hung up or the socket has an error.
   static constexpr unsigned kError = 4;
 
-  EventLoop();
+  explicit EventLoop(const Clock& clock = SteadyClock::instance());
   ~EventLoop();
   EventLoop(const EventLoop&) = delete;
   EventLoop& operator=(const EventLoop&) = delete;
@@ -33,6 +39,8 @@ class EventLoop {
   void post(std::function<void()> fn);
   // True on the thread inside run() (and, before the first run(), on the constructing thread).
   [[nodiscard]] bool in_loop_thread() const;
+
+  [[nodiscard]] const Clock& clock() const;
 
   // Loop thread. Runs fn once after delay (0 = on the next iteration).
   TimerId add_timer(std::chrono::nanoseconds delay, std::function<void()> fn);
@@ -57,7 +65,7 @@ class EventLoop {
 // An EventLoop running on its own std::thread. The destructor stops and joins it.
 class LoopThread {
  public:
-  LoopThread();
+  explicit LoopThread(const Clock& clock = SteadyClock::instance());
   ~LoopThread();
   LoopThread(const LoopThread&) = delete;
   LoopThread& operator=(const LoopThread&) = delete;

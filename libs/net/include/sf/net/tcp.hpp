@@ -105,4 +105,8 @@ void connect_tcp(EventLoop& loop, const std::string& host, std::uint16_t port,
                  std::chrono::milliseconds timeout,
                  std::function<void(Result<std::shared_ptr<TcpConnection>>)> done);
 
+// This host's name (gethostname), "localhost" when it has none: what a server advertises and what
+// its own certificate names.
+std::string host_name();
+
 }  // namespace sf::net

@@ -44,9 +44,13 @@ std::string_view status_code_name(std::uint32_t code);
 std::string_view status_code_description(std::uint32_t code);
 std::optional<StatusCode> status_code_from_name(std::string_view name);
 
-// Errors of this module carry their StatusCode as the first word of the message:
+// The table of Error::protocol_code that holds OPC UA StatusCodes.
+inline constexpr std::string_view kStatusCodeTable = "OPC UA StatusCode";
+
+// Errors of this module carry their StatusCode typed (Error::protocol_code), kept through
+// with_context, and named at the start of the message for people:
 // "BadDecodingError: ReadRequest.nodesToRead[2].indexRange: ...". status_error builds one
-// (Errc chosen from the code) and status_of reads it back; errors from elsewhere map by Errc.
+// (Errc chosen from the code) and status_of returns the code; errors from elsewhere map by Errc.
 Error status_error(StatusCode code, std::string_view message);
 StatusCode status_of(const Error& error);
 

@@ -1,9 +1,9 @@
 #include "sf/opcua/server/dispatcher.hpp"
 
 #include <algorithm>
-#include <type_traits>
 #include <utility>
 
+#include "service_table.hpp"
 #include "session_security.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -20,16 +20,6 @@ template <typename T>
 constexpr bool kIsRequest = requires(T t) {
   t.request_header;
 };
-
-// Services that cannot move next_due() earlier: they neither create nor change sessions,
-// subscriptions, monitored items or queued Publish requests (they only extend their session's
-// lifetime). Rescheduling after them would cost a pass over every monitored item per request.
-template <typename T>
-constexpr bool kLeavesScheduleAlone =
-    std::is_same_v<T, ReadRequest> || std::is_same_v<T, WriteRequest> || std::is_same_v<T, BrowseRequest> ||
-    std::is_same_v<T, BrowseNextRequest> || std::is_same_v<T, TranslateBrowsePathsToNodeIdsRequest> ||
-    std::is_same_v<T, RegisterNodesRequest> || std::is_same_v<T, UnregisterNodesRequest> ||
-    std::is_same_v<T, GetEndpointsRequest> || std::is_same_v<T, FindServersRequest>;
 
 }  // namespace
 
@@ -145,11 +135,30 @@ std::vector<EndpointDescription> Dispatcher::endpoints(std::string_view endpoint
 void Dispatcher::on_request(const std::shared_ptr<ServerChannel>& channel, std::uint32_t request_id,
                             Message request) {
   Call call{channel, request_id};
-  const bool may_reschedule = std::visit(
-      [](const auto& typed) { return !kLeavesScheduleAlone<std::decay_t<decltype(typed)>>; }, request);
-  std::visit([&](auto& typed) { handle(call, typed); }, request);
-  if (may_reschedule && on_schedule_changed_) {
-    on_schedule_changed_();
+  std::visit([&](const auto& typed) { dispatch(call, typed); }, request);
+}
+
+// The request's row of the service table (service_table.hpp) says what to do before its handler.
+template <typename Request>
+void Dispatcher::dispatch(Call& call, const Request& request) {
+  if constexpr (!kIsRequest<Request>) {
+    // A response or fault sent to the server: not a service it offers.
+    log::get("opcua")->warn("channel {}: {} is not a request", call.channel_id(), Request::kTypeName);
+    fault(call, RequestHeader{}, status::BadServiceUnsupported);
+  } else if constexpr (!detail::kOffered<Request>) {
+    // OpenSecureChannel/CloseSecureChannel never get here (the transport handles them).
+    log::get("opcua")->info("channel {}: {} is not supported", call.channel_id(), Request::kTypeName);
+    fault(call, request.request_header, status::BadServiceUnsupported);
+  } else {
+    constexpr auto kRow = detail::kServiceOf<Request>;
+    if constexpr (kRow.needs == detail::Needs::session) {
+      with_session(call, request);
+    } else {
+      serve(call, request);
+    }
+    if (kRow.schedule == detail::Schedule::may_change && on_schedule_changed_) {
+      on_schedule_changed_();
+    }
   }
 }
 
@@ -174,145 +183,117 @@ ServiceContext Dispatcher::context_for(Session& session) {
   return ctx;
 }
 
-template <typename Request, typename Service>
-void Dispatcher::with_session(Call& call, const Request& request, Service&& service) {
+// The services that run in an activated session: the session's scope in, the response out.
+namespace detail {
+
+struct SessionScope {
+  AddressSpace& space;
+  SubscriptionService& subscriptions;
+  HistoryDatabase* history = nullptr;
+  const Session& session;
+  ServiceContext context;
+};
+
+ReadResponse serve(SessionScope& s, const ReadRequest& r) {
+  return read(s.space, r, s.context);
+}
+WriteResponse serve(SessionScope& s, const WriteRequest& r) {
+  return write(s.space, r, s.context);
+}
+HistoryReadResponse serve(SessionScope& s, const HistoryReadRequest& r) {
+  return history_read(s.space, r, s.context, s.history);
+}
+BrowseResponse serve(SessionScope& s, const BrowseRequest& r) {
+  return browse(s.space, r, s.context);
+}
+BrowseNextResponse serve(SessionScope& s, const BrowseNextRequest& r) {
+  return browse_next(s.space, r, s.context);
+}
+TranslateBrowsePathsToNodeIdsResponse serve(SessionScope& s, const TranslateBrowsePathsToNodeIdsRequest& r) {
+  return translate_browse_paths(s.space, r, s.context);
+}
+RegisterNodesResponse serve(SessionScope& s, const RegisterNodesRequest& r) {
+  return register_nodes(s.space, r, s.context);
+}
+UnregisterNodesResponse serve(SessionScope& s, const UnregisterNodesRequest& r) {
+  return unregister_nodes(s.space, r, s.context);
+}
+CallResponse serve(SessionScope& s, const CallRequest& r) {
+  return call(s.space, r, s.context);
+}
+CreateSubscriptionResponse serve(SessionScope& s, const CreateSubscriptionRequest& r) {
+  return s.subscriptions.create_subscription(s.session.authentication_token, r);
+}
+ModifySubscriptionResponse serve(SessionScope& s, const ModifySubscriptionRequest& r) {
+  return s.subscriptions.modify_subscription(s.session.authentication_token, r);
+}
+SetPublishingModeResponse serve(SessionScope& s, const SetPublishingModeRequest& r) {
+  return s.subscriptions.set_publishing_mode(s.session.authentication_token, r);
+}
+DeleteSubscriptionsResponse serve(SessionScope& s, const DeleteSubscriptionsRequest& r) {
+  return s.subscriptions.delete_subscriptions(s.session.authentication_token, r);
+}
+RepublishResponse serve(SessionScope& s, const RepublishRequest& r) {
+  return s.subscriptions.republish(s.session.authentication_token, r);
+}
+CreateMonitoredItemsResponse serve(SessionScope& s, const CreateMonitoredItemsRequest& r) {
+  // The first value of each new item is read with the session's rights.
+  return s.subscriptions.create_monitored_items(s.session.authentication_token, r,
+                                                [&s](const ReadValueId& item, TimestampsToReturn timestamps) {
+                                                  return read_attribute(s.space, item, timestamps, s.context);
+                                                });
+}
+ModifyMonitoredItemsResponse serve(SessionScope& s, const ModifyMonitoredItemsRequest& r) {
+  return s.subscriptions.modify_monitored_items(s.session.authentication_token, r);
+}
+SetMonitoringModeResponse serve(SessionScope& s, const SetMonitoringModeRequest& r) {
+  return s.subscriptions.set_monitoring_mode(s.session.authentication_token, r);
+}
+DeleteMonitoredItemsResponse serve(SessionScope& s, const DeleteMonitoredItemsRequest& r) {
+  return s.subscriptions.delete_monitored_items(s.session.authentication_token, r);
+}
+
+}  // namespace detail
+
+template <typename Request>
+void Dispatcher::with_session(Call& call, const Request& request) {
   auto session = sessions_.find(request.request_header, call.channel_id());
   if (!session) {
     log::get("opcua")->info("{} refused: {}", Request::kTypeName, session.error().message);
     fault(call, request.request_header, status_of(session.error()));
     return;
   }
-  auto response = service(**session);
+  detail::SessionScope scope{space_, subscriptions_, history_.get(), **session, context_for(**session)};
+  auto response = detail::serve(scope, request);
   fill_response_header(response.response_header, request.request_header, clock_);
   call.respond(std::move(response));
 }
 
-template <typename Request>
-void Dispatcher::handle(Call& call, Request& request) {
-  if constexpr (!kIsRequest<Request>) {
-    // A response or fault sent to the server: not a service it offers.
-    log::get("opcua")->warn("channel {}: {} is not a request", call.channel_id(), Request::kTypeName);
-    fault(call, RequestHeader{}, status::BadServiceUnsupported);
-  } else if constexpr (std::is_same_v<Request, GetEndpointsRequest>) {
-    GetEndpointsResponse response;
-    const bool wants_tcp = request.profile_uris.empty() ||
-                           std::any_of(request.profile_uris.begin(), request.profile_uris.end(),
-                                       [](const String& uri) { return uri == kTransportProfile; });
-    if (wants_tcp) {
-      response.endpoints = Array<EndpointDescription>(endpoints(request.endpoint_url.view()));
-    }
-    fill_response_header(response.response_header, request.request_header, clock_);
-    call.respond(std::move(response));
-  } else if constexpr (std::is_same_v<Request, FindServersRequest>) {
-    FindServersResponse response;
-    const bool wanted = request.server_uris.empty() ||
-                        std::any_of(request.server_uris.begin(), request.server_uris.end(),
-                                    [this](const String& uri) { return uri == identity_.application_uri; });
-    if (wanted) {
-      response.servers = Array<ApplicationDescription>{application_description(request.endpoint_url.view())};
-    }
-    fill_response_header(response.response_header, request.request_header, clock_);
-    call.respond(std::move(response));
-  } else if constexpr (std::is_same_v<Request, CreateSessionRequest>) {
-    create_session(call, request);
-  } else if constexpr (std::is_same_v<Request, ActivateSessionRequest>) {
-    activate_session(call, request);
-  } else if constexpr (std::is_same_v<Request, CloseSessionRequest>) {
-    close_session(call, request);
-  } else if constexpr (std::is_same_v<Request, PublishRequest>) {
-    publish(call, request);
-  } else if constexpr (std::is_same_v<Request, ReadRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return read(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, WriteRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return write(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, BrowseRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return browse(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, BrowseNextRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return browse_next(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, TranslateBrowsePathsToNodeIdsRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return translate_browse_paths(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, RegisterNodesRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return register_nodes(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, UnregisterNodesRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return unregister_nodes(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, CallRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return server::call(space_, request, ctx);
-    });
-  } else if constexpr (std::is_same_v<Request, CreateSubscriptionRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.create_subscription(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, ModifySubscriptionRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.modify_subscription(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, SetPublishingModeRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.set_publishing_mode(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, DeleteSubscriptionsRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.delete_subscriptions(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, CreateMonitoredItemsRequest>) {
-    with_session(call, request, [&](Session& s) {
-      const ServiceContext ctx = context_for(s);
-      return subscriptions_.create_monitored_items(
-          s.authentication_token, request, [&](const ReadValueId& item, TimestampsToReturn timestamps) {
-            return read_attribute(space_, item, timestamps, ctx);
-          });
-    });
-  } else if constexpr (std::is_same_v<Request, ModifyMonitoredItemsRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.modify_monitored_items(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, SetMonitoringModeRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.set_monitoring_mode(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, DeleteMonitoredItemsRequest>) {
-    with_session(call, request, [&](Session& s) {
-      return subscriptions_.delete_monitored_items(s.authentication_token, request);
-    });
-  } else if constexpr (std::is_same_v<Request, RepublishRequest>) {
-    with_session(call, request,
-                 [&](Session& s) { return subscriptions_.republish(s.authentication_token, request); });
-  } else if constexpr (std::is_same_v<Request, HistoryReadRequest>) {
-    with_session(call, request, [&](Session& s) {
-      auto ctx = context_for(s);
-      return history_read(space_, request, ctx, history_.get());
-    });
-  } else {
-    // OpenSecureChannel/CloseSecureChannel never get here (the transport handles them).
-    log::get("opcua")->info("channel {}: {} is not supported", call.channel_id(), Request::kTypeName);
-    fault(call, request.request_header, status::BadServiceUnsupported);
+void Dispatcher::serve(Call& call, const GetEndpointsRequest& request) {
+  GetEndpointsResponse response;
+  const bool wants_tcp =
+      request.profile_uris.empty() || std::any_of(request.profile_uris.begin(), request.profile_uris.end(),
+                                                  [](const String& uri) { return uri == kTransportProfile; });
+  if (wants_tcp) {
+    response.endpoints = Array<EndpointDescription>(endpoints(request.endpoint_url.view()));
   }
+  fill_response_header(response.response_header, request.request_header, clock_);
+  call.respond(std::move(response));
 }
 
-void Dispatcher::create_session(Call& call, const CreateSessionRequest& request) {
+void Dispatcher::serve(Call& call, const FindServersRequest& request) {
+  FindServersResponse response;
+  const bool wanted = request.server_uris.empty() ||
+                      std::any_of(request.server_uris.begin(), request.server_uris.end(),
+                                  [this](const String& uri) { return uri == identity_.application_uri; });
+  if (wanted) {
+    response.servers = Array<ApplicationDescription>{application_description(request.endpoint_url.view())};
+  }
+  fill_response_header(response.response_header, request.request_header, clock_);
+  call.respond(std::move(response));
+}
+
+void Dispatcher::serve(Call& call, const CreateSessionRequest& request) {
   const ChannelInfo& channel = call.channel->info();
   if (auto st = detail::check_endpoint(*security_, channel); !st) {
     log::get("opcua")->info("CreateSession refused: {}", st.error().message);
@@ -342,7 +323,7 @@ void Dispatcher::create_session(Call& call, const CreateSessionRequest& request)
   call.respond(std::move(response));
 }
 
-void Dispatcher::activate_session(Call& call, const ActivateSessionRequest& request) {
+void Dispatcher::serve(Call& call, const ActivateSessionRequest& request) {
   const ChannelInfo& channel = call.channel->info();
   auto session = sessions_.find_for_activation(request, call.channel_id());
   Result<SessionIdentity> identity = session ? Result<SessionIdentity>(SessionIdentity{}) : session.error();
@@ -373,7 +354,7 @@ void Dispatcher::activate_session(Call& call, const ActivateSessionRequest& requ
   call.respond(std::move(response));
 }
 
-void Dispatcher::close_session(Call& call, const CloseSessionRequest& request) {
+void Dispatcher::serve(Call& call, const CloseSessionRequest& request) {
   auto session = sessions_.find_for_close(request.request_header, call.channel_id());
   if (!session) {
     fault(call, request.request_header, status_of(session.error()));
@@ -388,7 +369,7 @@ void Dispatcher::close_session(Call& call, const CloseSessionRequest& request) {
   call.respond(std::move(response));
 }
 
-void Dispatcher::publish(Call& call, const PublishRequest& request) {
+void Dispatcher::serve(Call& call, const PublishRequest& request) {
   auto session = sessions_.find(request.request_header, call.channel_id());
   if (!session) {
     fault(call, request.request_header, status_of(session.error()));

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "sf/core/log.hpp"
+#include "sf/net/tcp.hpp"
 #include "sf/opcua/security/policies.hpp"
 #include "sf/opcua/server/ns0.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -21,14 +22,6 @@ namespace {
 
 // The loop never sleeps longer than this between ticks, so a clock that jumps is caught up.
 constexpr auto kMaxTickDelay = std::chrono::milliseconds(1000);
-
-std::string host_name() {
-  std::array<char, 256> name{};
-  if (gethostname(name.data(), name.size() - 1) != 0 || name[0] == '\0') {
-    return "localhost";
-  }
-  return name.data();
-}
 
 BuildInfo build_info(const ServerConfig& config, const Clock& clock) {
   BuildInfo info;
@@ -88,7 +81,7 @@ Status configure_transport(const std::shared_ptr<const ServerSecurity>& security
 
 Server::Server(ServerConfig config, const Clock& clock) : config_(std::move(config)), clock_(clock) {
   if (config_.advertised_host.empty()) {
-    config_.advertised_host = host_name();
+    config_.advertised_host = net::host_name();
   }
   if (auto st = build_namespace0(space_); !st) {
     // ns0 is generated and tested; failing here is a build defect, not an input problem.

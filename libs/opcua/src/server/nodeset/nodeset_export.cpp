@@ -186,7 +186,7 @@ class Exporter {
     root_.append_attribute("xmlns:uax") = kTypesNamespace;
     root_.append_attribute("xmlns:xsi") = "http://www.w3.org/2001/XMLSchema-instance";
     root_.append_attribute("xmlns:xsd") = "http://www.w3.org/2001/XMLSchema";
-    const std::string now = to_string(DateTime::from_system_clock(std::chrono::system_clock::now()));
+    const std::string now = to_string(DateTime::from_system_clock(options_.clock->utc_now()));
     root_.append_attribute("LastModified") = now.c_str();
     pugi::xml_node uris = root_.append_child("NamespaceUris");
     for (const std::string& uri : file_namespaces_) {

@@ -377,8 +377,7 @@ class Importer {
         for (const NodeId& undo : added) {
           (void)space_.delete_node(undo);
         }
-        return make_error(result.error().code,
-                          fmt::format("{}: {}", lines_.where(parsed.at), result.error().message));
+        return result.error().with_context(lines_.where(parsed.at));
       }
       added.push_back(parsed.id);
     }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "sf/core/text.hpp"
 #include "sf/opcua/binary.hpp"
 #include "xml_codec.hpp"
 #include "xml_types.hpp"
@@ -17,15 +18,6 @@ namespace {
 
 // Values nest through ListOfVariant and ExtensionObjects; a file may not nest without end.
 constexpr int kMaxDepth = 16;
-
-std::string_view trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) {
-    return {};
-  }
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
 
 std::string_view text_of(pugi::xml_node element) {
   return trim(element.child_value());

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/server/ns0.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -52,7 +52,7 @@ class DispatcherTest : public ::testing::Test {
   DispatcherTest() {
     EXPECT_TRUE(build_namespace0(space_));
     space_.add_namespace("urn:smartfactory:test");
-    EXPECT_TRUE(add_demo_nodes(space_));
+    EXPECT_TRUE(examples::add_demo_nodes(space_));
     ServerObjectInfo info;
     info.clock = &clock_;
     EXPECT_TRUE(install_server_object_callbacks(space_, std::move(info)));
@@ -96,7 +96,7 @@ class DispatcherTest : public ::testing::Test {
   }
 
   NodeId counter() const {
-    return NodeId(*space_.namespace_index(kDemoNamespaceUri), String("Demo.Counter"));
+    return NodeId(*space_.namespace_index(examples::kDemoNamespaceUri), String("Demo.Counter"));
   }
 
   ManualClock clock_;

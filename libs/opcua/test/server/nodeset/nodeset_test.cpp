@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "sf/opcua/server/demo_model.hpp"
+#include "sf/examples/opcua_demo.hpp"
 #include "sf/opcua/server/ns0.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -182,13 +182,13 @@ TEST(NodeSet, ExportThenImportReproducesEveryNode) {
 
 TEST(NodeSet, DemoModelRoundTripsAndExportIsStable) {
   AddressSpace source = fresh_space();
-  ASSERT_TRUE(add_demo_nodes(source));
-  auto first = export_nodeset(source, {.namespace_uris = {std::string(kDemoNamespaceUri)}});
+  ASSERT_TRUE(examples::add_demo_nodes(source));
+  auto first = export_nodeset(source, {.namespace_uris = {std::string(examples::kDemoNamespaceUri)}});
   ASSERT_TRUE(first.ok());
   AddressSpace target = fresh_space();
   ASSERT_TRUE(import_nodeset(target, *first).ok());
-  expect_same_namespace(source, target, kDemoNamespaceUri, 6);
-  auto second = export_nodeset(target, {.namespace_uris = {std::string(kDemoNamespaceUri)}});
+  expect_same_namespace(source, target, examples::kDemoNamespaceUri, 6);
+  auto second = export_nodeset(target, {.namespace_uris = {std::string(examples::kDemoNamespaceUri)}});
   ASSERT_TRUE(second.ok());
   // Apart from the time stamps, exporting the import gives the same document.
   const auto strip = [](std::string text) {

@@ -137,8 +137,18 @@ class DigitalIo final : public Device {
   OdEntry* outputs_ = nullptr;
 };
 
-// The device kinds make_device() knows, in the order of the list above.
+// One device model the segment spec can name: the table in device_factory.cpp is the one list
+// of them (make_device, device_kinds and the CLI's help read it).
+struct DeviceKind {
+  std::string_view name;     // as in a segment spec: "smart-controller"
+  std::string_view summary;  // one line for help texts
+  std::unique_ptr<Device> (*make)(const DeviceOptions& options);
+};
+std::span<const DeviceKind> device_models();
+// The names of device_models(), in the order of the list above.
 std::span<const std::string_view> device_kinds();
+// The model named `kind`; unknown kinds are an error listing the known ones.
+Result<const DeviceKind*> find_device_model(std::string_view kind);
 // A new device of that kind; unknown kinds are an error listing the known ones.
 Result<std::unique_ptr<Device>> make_device(std::string_view kind, const DeviceOptions& options = {});
 

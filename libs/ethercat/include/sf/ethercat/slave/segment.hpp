@@ -118,7 +118,6 @@ class Segment {
   SegmentOptions options_;
   std::vector<Slave> slaves_;
   std::vector<std::size_t> chain_;  // connected slaves reached by a frame, in order
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> datagrams_;  // offset, data length
   std::vector<FramePass> passes_;
   std::mt19937_64 rng_;
   mutable std::mutex mutex_;

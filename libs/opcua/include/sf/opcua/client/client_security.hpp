@@ -1,4 +1,4 @@
-// The client's side of issue 6: which endpoint to use (OPC 10000-4 §5.4.4), its own
+// The client's side of OPC UA security (OPC 10000-2 §4): which endpoint to use (OPC 10000-4 §5.4.4), its own
 // application instance certificate, how it checks the server's certificate, and who it logs in
 // as (§5.6.3, §7.40).
 #pragma once
@@ -17,7 +17,7 @@ namespace sf::opcua {
 struct ClientSecurity {
   // The endpoint: a policy URI and mode. With an empty policy_uri the client asks the server
   // (GetEndpoints) and takes its most secure endpoint it supports (highest securityLevel).
-  // None/None connects without discovery, as issue 5 did.
+  // None/None connects without discovery (GetEndpoints is skipped).
   std::string policy_uri = std::string(kSecurityPolicyNoneUri);
   MessageSecurityMode mode = MessageSecurityMode::None;
   // Own certificate (subjectAltName URI = ClientConfig::application_uri) and key; required for

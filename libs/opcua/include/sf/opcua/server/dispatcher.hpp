@@ -49,9 +49,10 @@ class Dispatcher final : public ServiceHandler {
   void tick();
   [[nodiscard]] Clock::time_point next_due() const;
 
-  // Called after every request that may have moved next_due() earlier.
+  // Called after every request that may have moved next_due() earlier (the service table's
+  // Schedule::may_change rows).
   void set_on_schedule_changed(std::function<void()> callback) { on_schedule_changed_ = std::move(callback); }
-  // Endpoints, certificate, client certificate validation, users and roles (issue 6); nullptr
+  // Endpoints, certificate, client certificate validation, users and roles (OPC 10000-2 §4); nullptr
   // or never called: SecurityPolicy None with unrestricted anonymous users.
   void set_security(std::shared_ptr<const ServerSecurity> security);
   // Where HistoryRead finds values (nullptr: HistoryRead answers BadHistoryOperationUnsupported).
@@ -69,15 +70,20 @@ class Dispatcher final : public ServiceHandler {
 
  private:
   struct Call;
+  // By the request's row of the service table (src/server/core/service_table.hpp).
   template <typename Request>
-  void handle(Call& call, Request& request);
-  template <typename Request, typename Service>
-  void with_session(Call& call, const Request& request, Service&& service);
+  void dispatch(Call& call, const Request& request);
+  // Finds the request's session, runs the service in it and responds (or faults).
+  template <typename Request>
+  void with_session(Call& call, const Request& request);
 
-  void create_session(Call& call, const CreateSessionRequest& request);
-  void activate_session(Call& call, const ActivateSessionRequest& request);
-  void close_session(Call& call, const CloseSessionRequest& request);
-  void publish(Call& call, const PublishRequest& request);
+  // The handlers of the services that need no session or find their own.
+  void serve(Call& call, const FindServersRequest& request);
+  void serve(Call& call, const GetEndpointsRequest& request);
+  void serve(Call& call, const CreateSessionRequest& request);
+  void serve(Call& call, const ActivateSessionRequest& request);
+  void serve(Call& call, const CloseSessionRequest& request);
+  void serve(Call& call, const PublishRequest& request);
   void fault(Call& call, const RequestHeader& header, StatusCode status);
   ServiceContext context_for(Session& session);
   SubscriptionCallbacks subscription_callbacks();

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sf/core/clock.hpp"
 #include "sf/core/result.hpp"
 #include "sf/opcua/server/address_space.hpp"
 
@@ -49,6 +50,8 @@ struct NodeSetExportOptions {
   std::vector<std::string> namespace_uris;
   // <Models><Model ModelUri=...> entries, one per exported namespace (OPC 10000-6 §F.2).
   std::string model_version = "1.0.0";
+  // LastModified of the file (OPC 10000-6 §F.1): this clock's time.
+  const Clock* clock = &SteadyClock::instance();
 };
 
 // The nodes of the chosen namespaces with all their references, values (OPC 10000-6 §5.3 XML

@@ -24,6 +24,16 @@ Status build_namespace0(AddressSpace& space);
 // Number of nodes build_namespace0 adds (for tests and logs).
 std::size_t namespace0_node_count();
 
+// The built-in type values of `data_type` have on the wire (OPC 10000-6 §5.1.2): the type itself
+// for a built-in DataType of namespace 0; for a subtype of one, that built-in type, found up the
+// HasSubtype hierarchy of `space` (OPC 10000-3 §5.8.3: Duration → Double, UtcTime → DateTime, a
+// server's own subtype of Int32 → Int32); Int32 for enumerations. Null for structures, abstract
+// types (Number, ...) and types `space` does not know.
+BuiltinType builtin_type_of(const AddressSpace& space, const NodeId& data_type);
+// The same against namespace 0 alone (built once per process): what a client knows of a server's
+// data types without browsing them.
+BuiltinType builtin_type_of(const NodeId& data_type);
+
 // What the Server object shows (OPC 10000-5 §6.3.1 ServerType, §12.10 ServerStatusDataType).
 struct ServerObjectInfo {
   // ServerArray: the server's own ApplicationUri first (OPC 10000-5 §6.3.1).

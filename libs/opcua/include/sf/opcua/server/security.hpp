@@ -1,6 +1,6 @@
-// What a server offers and whom it lets in (issue 6): the endpoints (security policy × mode),
+// What a server offers and whom it lets in (OPC 10000-2 §4): the endpoints (security policy × mode),
 // its application instance certificate, how client certificates are validated, the users with
-// their roles, and anonymous access. The default is issue 5's server: SecurityPolicy None only,
+// their roles, and anonymous access. The default is an open server: SecurityPolicy None only,
 // anonymous users who may do everything.
 //
 // A SecureChannel with SecurityPolicy None is always accepted for discovery (GetEndpoints,

@@ -32,7 +32,7 @@ struct OperationLimits {
   std::uint32_t max_references_per_node = 1000;
 };
 
-// The user behind a request (issue 6 brings real users and roles). The default allows
+// The user behind a request (OPC 10000-3 §5.9 roles and permissions). The default allows
 // everything the node's attributes allow; the UserAccessLevel/UserWriteMask/UserExecutable
 // attributes read as the node's value ANDed with these answers.
 class UserContext {

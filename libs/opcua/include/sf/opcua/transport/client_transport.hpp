@@ -94,6 +94,7 @@ class ClientChannel : public std::enable_shared_from_this<ClientChannel> {
   void finish_open(Result<std::shared_ptr<ClientChannel>> result);
   void shut_down(const Error& error);
   void arm_timer();
+  void on_channel_timer();
   void cancel_timer(net::EventLoop::TimerId& id);
 
   net::EventLoop& loop_;

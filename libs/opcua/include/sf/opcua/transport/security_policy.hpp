@@ -12,7 +12,7 @@
 // the end. Padding (only when encrypting) is PaddingSize byte + PaddingSize bytes of value
 // PaddingSize, plus ExtraPaddingSize byte when the asymmetric key is > 2048 bits (§6.7.2.5).
 // SecurityPolicy None needs none of it; Basic256Sha256, Aes128_Sha256_RsaOaep and
-// Aes256_Sha256_RsaPss (issue 6) implement these classes over OpenSSL and register themselves.
+// Aes256_Sha256_RsaPss (OPC 10000-7) implement these classes over OpenSSL and register themselves.
 #pragma once
 
 #include <cstddef>
@@ -188,7 +188,7 @@ class SecurityPolicyNone final : public SecurityPolicy {
 class SecurityPolicyRegistry {
  public:
   SecurityPolicyRegistry() = default;
-  // A registry holding SecurityPolicyNone only (what issue 5 offers).
+  // A registry holding SecurityPolicyNone only (OPC 10000-7 SecurityPolicy [None]).
   static std::shared_ptr<const SecurityPolicyRegistry> standard();
 
   // Replaces a policy of the same URI.

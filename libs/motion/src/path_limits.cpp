@@ -12,11 +12,15 @@ namespace sf::motion::detail {
 namespace {
 
 // Samples of q', q'', q''' along a line, besides its closest approach to the
-// shoulder axis: enough that the peaks between them stay within the share
-// of each limit kept back for them.
-constexpr int kLineSamples = 32;
+// shoulder axis: one every kSampleSpacing of horizontal travel, at most
+// kLineSamples. They depend on the horizontal position only (z is its own
+// axis, yaw only adds to θ4), so a vertical line needs its two ends alone.
+// Close enough that the peaks between them stay within the share of each
+// limit kept back for them (the random-path test checks it).
+constexpr double kSampleSpacing = 0.025;  // m
+constexpr int kLineSamples = 24;
 // Samples over a blend's overlap (tens of milliseconds).
-constexpr int kOverlapSamples = 12;
+constexpr int kOverlapSamples = 8;
 // The share of each axis limit a sampled check may use: the rest covers the
 // peaks between samples.
 constexpr double kSampledShare = 0.95;
@@ -165,8 +169,9 @@ Result<JerkProfile> line_profile(const ScaraGeometry& g, const MotionLimits& lim
   const double closest = closest_approach(g, line);
   SF_TRY(check_closest_approach(g, limits, elbow, line, closest, joints));
   bool closest_seen = closest <= 0.0 || closest >= 1.0;
-  for (int i = 0; i <= kLineSamples; ++i) {
-    const double u = static_cast<double>(i) / kLineSamples;
+  const int n = std::clamp(static_cast<int>(std::ceil(norm(line.delta.xy()) / kSampleSpacing)), 1, kLineSamples);
+  for (int i = 0; i <= n; ++i) {
+    const double u = static_cast<double>(i) / n;
     if (!closest_seen && closest < u) {
       SF_TRY(visit(g, limits, elbow, line, closest, joints, samples));
       closest_seen = true;

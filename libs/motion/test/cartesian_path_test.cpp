@@ -1,12 +1,14 @@
 #include "sf/motion/cartesian_path.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "prototype_cell.hpp"
 #include "sf/motion/csp_sampler.hpp"
+#include "sf/motion/testing/scara_cell.hpp"
 
 namespace sf::motion {
 namespace {
@@ -170,18 +172,7 @@ TEST(CartesianPathTest, TheElbowNeverFlipsAndTheWristTurnsTheShortWay) {
   EXPECT_LT(std::abs(path->segments()[0].yaw_delta), 0.3);
 }
 
-// A pick-and-place through the cell from home: approach above the
-// dispenser, down to it (stop, dwell for the vacuum), up, back past home,
-// over the slot, down (stop, dwell), up. Corners blended with `radius`.
-std::vector<Waypoint> pick_and_place(double radius) {
-  using testing::kGummy;
-  using testing::kHome;
-  using testing::kSlot3;
-  return {{{above(kGummy, 0.05), 0.0}, radius, 0.0}, {{kGummy, 0.0}, 0.0, 0.05},
-          {{above(kGummy, 0.05), 0.0}, radius, 0.0}, {{kHome, 0.0}, radius, 0.0},
-          {{above(kSlot3, 0.05), 0.5}, radius, 0.0}, {{above(kSlot3, 0.01), 0.5}, 0.0, 0.05},
-          {{above(kSlot3, 0.08), 0.5}, 0.0, 0.0}};
-}
+using testing::pick_and_place;
 
 TEST(CartesianPathTest, BlendedCornersStayWithinTheRadiusWithoutStopping) {
   const auto g = robot1();
@@ -277,6 +268,71 @@ TEST(CartesianPathTest, NoWaypointsOrOnlyTheStartIsAnEmptyPath) {
   ASSERT_TRUE(same);
   EXPECT_EQ(same->cycles(), 0U);
   EXPECT_EQ(same->end_joints(), start);
+}
+
+}  // namespace
+}  // namespace sf::motion
+
+namespace sf::motion {
+namespace {
+
+// Paths through random way-points of the cell's workspace (fixed seed): the
+// ones the planner accepts keep every set-point step within the axis limits,
+// the tool within 0.1 mm of its lines where it is not blending and within
+// the blend radius of the polyline where it is; the refused ones say why.
+TEST(CartesianPathTest, RandomPathsInTheCellStayWithinTheLimitsAndOnTheirLines) {
+  const auto g = testing::robot1();
+  const MotionLimits lim;
+  std::mt19937 random(20261127);
+  std::uniform_real_distribution<double> radius(0.2, 0.54);
+  std::uniform_real_distribution<double> angle(-1.6, 1.6);
+  std::uniform_real_distribution<double> height(0.82, 1.08);
+  std::uniform_real_distribution<double> yaw(-1.5, 1.5);
+  std::uniform_real_distribution<double> blend(0.0, 0.03);
+  int planned = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    std::vector<Waypoint> points;
+    std::vector<Vec3> corners{testing::kHome};
+    for (int i = 0; i < 4; ++i) {
+      const double r = radius(random);
+      const double phi = angle(random);
+      points.push_back(
+          {{{g.base.x + r * std::cos(phi), g.base.y + r * std::sin(phi), height(random)}, yaw(random)},
+           i % 2 == 0 ? blend(random) : 0.0,
+           0.0});
+      corners.push_back(points.back().pose.position);
+    }
+    const ScaraJoints start = testing::home(g);
+    auto path = plan_path(g, lim, start, points);
+    if (!path) {
+      EXPECT_FALSE(path.error().message.empty());
+      continue;
+    }
+    ++planned;
+    const auto q = testing::setpoints(CspSampler(*path), start);
+    const auto peaks = testing::step_peaks(q, lim.cycle, lim.axes);
+    EXPECT_LE(std::max({peaks.velocity[0], peaks.velocity[1], peaks.velocity[2], peaks.velocity[3],
+                        peaks.acceleration[0], peaks.acceleration[1], peaks.acceleration[2],
+                        peaks.acceleration[3]}),
+              1.0)
+        << "trial " << trial;
+    double worst = 0.0;
+    for (const auto& joints : q) {
+      worst = std::max(worst, testing::distance_to_polyline(scara_forward(g, joints).position, corners));
+    }
+    EXPECT_LE(worst, 0.03 + 1e-9) << "trial " << trial;
+    const auto segments = path->segments();
+    for (std::size_t k = 0; k < segments.size(); ++k) {  // outside the overlaps: on the line
+      const PathSegment& s = segments[k];
+      const double from = k == 0 ? s.start : std::max(s.start, segments[k - 1].end());
+      const double until = k + 1 == segments.size() ? s.end() : std::min(s.end(), segments[k + 1].start);
+      for (double t = from; t <= until; t += lim.cycle) {
+        const Vec3 p = path->pose_at(t).position;
+        EXPECT_LT(testing::distance_to_segment(p, s.from.position, s.from.position + s.delta), 1e-4);
+      }
+    }
+  }
+  EXPECT_GT(planned, 15);
 }
 
 }  // namespace

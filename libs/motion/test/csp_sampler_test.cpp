@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "prototype_cell.hpp"
+#include "sf/motion/testing/scara_cell.hpp"
 
 namespace sf::motion {
 namespace {

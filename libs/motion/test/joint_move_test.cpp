@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "prototype_cell.hpp"
 #include "sf/motion/csp_sampler.hpp"
+#include "sf/motion/testing/scara_cell.hpp"
 
 namespace sf::motion {
 namespace {

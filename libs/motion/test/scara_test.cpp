@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "prototype_cell.hpp"
 #include "sf/motion/scara_differential.hpp"
+#include "sf/motion/testing/scara_cell.hpp"
 
 namespace sf::motion {
 namespace {

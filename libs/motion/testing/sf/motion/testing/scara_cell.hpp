@@ -1,6 +1,8 @@
-// SCARA Robot 1's cell on the default line (layouts/prototype-line.yaml): the
-// arm, its dispensers and the small box's slots at its station, and helpers
-// that read a move back cycle by cycle as a drive would receive it.
+// Test and benchmark support, not part of the library: SCARA Robot 1's cell
+// on the default line (layouts/prototype-line.yaml; line_test keeps these
+// equal to it) — the arm, its dispensers, the small box's slots at its
+// station, a pick-and-place through them — and helpers that read a move back
+// cycle by cycle as the drives receive it.
 #pragma once
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sf/motion/cartesian_path.hpp"
 #include "sf/motion/csp_sampler.hpp"
 #include "sf/motion/scara.hpp"
 
@@ -42,6 +45,16 @@ inline Vec3 above(Vec3 p, double dz) {
 // The arm at home, left elbow.
 inline ScaraJoints home(const ScaraGeometry& g) {
   return scara_inverse(g, {kHome, 0.0}, Elbow::left).value();
+}
+
+// A pick-and-place from home: above the gummy dispenser, down to it (stop,
+// 50 ms for the vacuum), up, back past home, above slot 3, down to 10 mm
+// above it (stop, 50 ms), up 80 mm. Corners blended with `radius`.
+inline std::vector<Waypoint> pick_and_place(double radius) {
+  return {{{above(kGummy, 0.05), 0.0}, radius, 0.0}, {{kGummy, 0.0}, 0.0, 0.05},
+          {{above(kGummy, 0.05), 0.0}, radius, 0.0}, {{kHome, 0.0}, radius, 0.0},
+          {{above(kSlot3, 0.05), 0.5}, radius, 0.0}, {{above(kSlot3, 0.01), 0.5}, 0.0, 0.05},
+          {{above(kSlot3, 0.08), 0.5}, 0.0, 0.0}};
 }
 
 // Every set-point of a move, the start first.

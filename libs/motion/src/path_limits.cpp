@@ -134,7 +134,7 @@ bool within(const PoseDerivatives& p, const ToolLimits& tool) {
          within(p.second[3], tool.yaw.acceleration) && within(p.third[3], tool.yaw.jerk);
 }
 
-// Adds `scale`·(the line's delta) to the pose derivatives' order `order`.
+// Adds `scale`·(the line's delta in x, y, z, yaw) to `d`.
 void add(std::array<double, 4>& d, const PathSegment& line, double scale) {
   d[0] += scale * line.delta.x;
   d[1] += scale * line.delta.y;
@@ -169,7 +169,8 @@ Result<JerkProfile> line_profile(const ScaraGeometry& g, const MotionLimits& lim
   const double closest = closest_approach(g, line);
   SF_TRY(check_closest_approach(g, limits, elbow, line, closest, joints));
   bool closest_seen = closest <= 0.0 || closest >= 1.0;
-  const int n = std::clamp(static_cast<int>(std::ceil(norm(line.delta.xy()) / kSampleSpacing)), 1, kLineSamples);
+  const int n =
+      std::clamp(static_cast<int>(std::ceil(norm(line.delta.xy()) / kSampleSpacing)), 1, kLineSamples);
   for (int i = 0; i <= n; ++i) {
     const double u = static_cast<double>(i) / n;
     if (!closest_seen && closest < u) {

@@ -12,7 +12,9 @@ namespace {
 // a = (r·e(σ)) / (l1·sin θ2), b = −(r·e(θ1)) / (l2·sin θ2).
 struct Frame {
   Vec2 e1, n1, es, ns;
-  double l1, l2, s2;
+  double l1 = 0.0;
+  double l2 = 0.0;
+  double s2 = 0.0;
   [[nodiscard]] std::array<double, 2> solve(Vec2 r) const {
     return {dot(r, es) / (l1 * s2), -dot(r, e1) / (l2 * s2)};
   }

@@ -19,11 +19,13 @@
 //
 // Blending: a way-point with a blend radius R lets the next segment start
 // while the current one is still decelerating, once the current one has R
-// left to go; the tool moves on the sum of both lines' motions, so velocity,
-// acceleration and jerk stay continuous and bounded, the tool never strays
+// left to go; the tool moves on the sum of both lines' motions, so velocity
+// and acceleration stay continuous and jerk bounded, the tool never strays
 // further than R from the corner's two lines, and it passes the corner
-// without stopping. The planner checks the axis and tool limits over each
-// overlap and shortens it (down to a stop) where the sum would exceed them.
+// without stopping. Both lines' jerk phases add up in the overlap, so lines
+// that blend are planned with half the jerk limits. The planner checks the
+// axis and tool limits over each overlap and shortens it (down to a stop)
+// where the sum would exceed them.
 // R is capped at half of either adjacent segment, so at most two segments
 // move the tool at any time.
 //

@@ -65,7 +65,8 @@ constexpr int kPlansPerRound = 50;
 constexpr double kNaiveStep = 150.0 / 100'000.0;
 
 // The naive peer: joint targets by IK, then straight joint-space lines with
-// at most kNaiveStep per cycle on the longest axis, into a buffer.
+// at most kNaiveStep per cycle on the longest axis, into a buffer. Empty when
+// a way-point is out of reach.
 std::vector<ScaraJoints> naive_plan(const ScaraGeometry& g, const ScaraJoints& start,
                                     const std::vector<Waypoint>& points) {
   std::vector<ScaraJoints> out{start};
@@ -73,8 +74,7 @@ std::vector<ScaraJoints> naive_plan(const ScaraGeometry& g, const ScaraJoints& s
   for (const auto& w : points) {
     auto q = scara_inverse_nearest(g, w.pose, now);
     if (!q) {
-      std::fprintf(stderr, "naive: %s\n", q.error().describe().c_str());
-      std::exit(1);
+      return {};
     }
     double longest = 0.0;
     for (std::size_t i = 0; i < 4; ++i) {
@@ -171,6 +171,10 @@ int main(int argc, char** argv) {
   const auto ours = setpoints(CspSampler(*blended), start);
   const auto ours_stopping = setpoints(CspSampler(*stopping), start);
   const auto naive = naive_plan(g, start, points);
+  if (naive.empty()) {
+    std::fprintf(stderr, "naive: a way-point is out of reach\n");
+    return 1;
+  }
   // Sampling: pull every set-point through the sampler, next to copying
   // the same number of set-points from a buffer.
   std::vector<ScaraJoints> copy(ours.size());

@@ -16,6 +16,16 @@ namespace {
 using testing::above;
 using testing::robot1;
 
+// The cycle times from `from` to `until`, both included.
+std::vector<double> cycles_between(double from, double until, double cycle) {
+  std::vector<double> t;
+  const auto n = static_cast<int>(std::floor((until - from) / cycle + 1e-9));
+  for (int k = 0; k <= n; ++k) {
+    t.push_back(from + k * cycle);
+  }
+  return t;
+}
+
 // The tool point the set-points put the arm at, and between set-points
 // where a drive moves each axis on a straight line from one target to the
 // next: `between` points per cycle.
@@ -55,7 +65,8 @@ TEST(CartesianPathTest, ALineStaysWithinATenthOfAMillimetreOfTheLine) {
     EXPECT_LT(testing::distance_to_segment(scara_forward(g, joints).position, a, target.position), 1e-9);
   }
   // And the continuous path between cycles.
-  for (double t = 0.0; t <= line->duration(); t += line->duration() / 997) {
+  for (int i = 0; i <= 997; ++i) {
+    const double t = line->duration() * i / 997;
     EXPECT_LT(testing::distance_to_segment(line->pose_at(t).position, a, target.position), 1e-12);
   }
   EXPECT_NEAR(norm(scara_forward(g, q.back()).position - target.position), 0.0, 1e-12);
@@ -206,7 +217,7 @@ TEST(CartesianPathTest, BlendedCornersStayWithinTheRadiusWithoutStopping) {
     const PathSegment& into = blended->segments()[w];
     const PathSegment& out = blended->segments()[w + 1];
     EXPECT_LT(out.start, into.end()) << "way-point " << w;
-    for (double t = out.start; t <= into.end(); t += lim.cycle) {
+    for (double t : cycles_between(out.start, into.end(), lim.cycle)) {
       const auto d = blended->derivatives_at(t);
       EXPECT_GT(std::hypot(d.first[0], d.first[1], d.first[2]), 1e-3) << "way-point " << w << " at " << t;
     }
@@ -232,7 +243,7 @@ TEST(CartesianPathTest, ABlendRadiusIsCappedAtHalfTheShorterSegment) {
   ASSERT_TRUE(path) << path.error().describe();
   const std::vector<Vec3> corners{testing::kChocolate, points[0].pose.position, points[1].pose.position};
   double worst = 0.0;
-  for (double t = 0.0; t <= path->duration(); t += lim.cycle) {
+  for (double t : cycles_between(0.0, path->duration(), lim.cycle)) {
     worst = std::max(worst, testing::distance_to_polyline(path->pose_at(t).position, corners));
   }
   EXPECT_LE(worst, 0.02);
@@ -326,7 +337,7 @@ TEST(CartesianPathTest, RandomPathsInTheCellStayWithinTheLimitsAndOnTheirLines) 
       const PathSegment& s = segments[k];
       const double from = k == 0 ? s.start : std::max(s.start, segments[k - 1].end());
       const double until = k + 1 == segments.size() ? s.end() : std::min(s.end(), segments[k + 1].start);
-      for (double t = from; t <= until; t += lim.cycle) {
+      for (double t : cycles_between(from, until, lim.cycle)) {
         const Vec3 p = path->pose_at(t).position;
         EXPECT_LT(testing::distance_to_segment(p, s.from.position, s.from.position + s.delta), 1e-4);
       }

@@ -101,8 +101,10 @@ TEST(ScaraTest, NearestKeepsTheCurrentElbow) {
 TEST(ScaraTest, InverseOfForwardOverTheWorkspaceGridBothElbows) {
   const auto g = testing::robot1();
   int solved = 0;
-  for (double q1 = -2.6; q1 <= 2.6; q1 += 0.2) {
-    for (double q2 = -2.45; q2 <= 2.45; q2 += 0.1) {
+  for (int a = 0; a <= 26; ++a) {
+    const double q1 = -2.6 + 0.2 * a;
+    for (int b = 0; b <= 49; ++b) {
+      const double q2 = -2.45 + 0.1 * b;
       if (std::abs(std::sin(q2)) < 1e-3) {
         continue;
       }
@@ -128,8 +130,10 @@ TEST(ScaraTest, InverseOfForwardOverTheWorkspaceGridBothElbows) {
 TEST(ScaraTest, ForwardOfInverseOverTheWorkspaceGridBothElbows) {
   const auto g = testing::robot1();
   int reached[2] = {0, 0};
-  for (double r = 0.06; r <= 0.549; r += 0.02) {
-    for (double phi = -kPi; phi < kPi; phi += 0.15) {
+  for (int i = 0; i <= 24; ++i) {
+    const double r = 0.06 + 0.02 * i;  // 0.06 … 0.54 m
+    for (int j = 0; j < 42; ++j) {
+      const double phi = -kPi + 0.15 * j;
       for (double z : {0.8, 0.95, 1.1}) {
         for (double yaw : {-2.0, 0.0, 2.9}) {
           const ToolPose target{{g.base.x + r * std::cos(phi), g.base.y + r * std::sin(phi), z}, yaw};

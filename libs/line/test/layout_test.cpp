@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sf/motion/testing/scara_cell.hpp"
+
 namespace sf::line {
 namespace {
 
@@ -153,6 +155,35 @@ TEST(LayoutTest, SlotsAreCentredOnTheBox) {
   EXPECT_NEAR(small.slot_offset(0).y, -0.035, 1e-12);
   EXPECT_NEAR(small.slot_offset(11).x, 1.5 * 0.035, 1e-12);
   EXPECT_NEAR(small.slot_offset(11).y, 0.035, 1e-12);
+}
+
+}  // namespace
+}  // namespace sf::line
+
+namespace sf::line {
+namespace {
+
+// The motion tests and bench_motion work in SCARA Robot 1's cell as
+// sf/motion/testing/scara_cell.hpp writes it down; it is the default layout's.
+TEST(LayoutTest, TheMotionTestsCellIsTheDefaultLayouts) {
+  namespace cell = motion::testing;
+  auto layout = default_layout();
+  ASSERT_TRUE(layout);
+  const RobotSpec* robot = layout->robot("scara-robot-1");
+  ASSERT_NE(robot, nullptr);
+  const motion::ScaraGeometry g = cell::robot1();
+  EXPECT_EQ(robot->scara.base, g.base);
+  EXPECT_EQ(robot->scara.l1, g.l1);
+  EXPECT_EQ(robot->scara.l2, g.l2);
+  EXPECT_EQ(robot->scara.limits[2].max, g.limits[2].max);
+  EXPECT_EQ(layout->dispenser("scara1-gummy")->at, cell::kGummy);
+  EXPECT_EQ(layout->dispenser("scara1-chocolate")->at, cell::kChocolate);
+  auto station = find_station(*layout, robot->stations.front());
+  ASSERT_TRUE(station);
+  const BoxType& small = *layout->catalog.box("small-box");
+  EXPECT_LT(motion::norm(slot_point(*layout, *station, small, 3) - cell::kSlot3), 1e-12);
+  EXPECT_LT(motion::norm(slot_point(*layout, *station, small, 8) - cell::kSlot8), 1e-12);
+  EXPECT_TRUE(robot->reaches(cell::kHome));
 }
 
 }  // namespace

@@ -67,4 +67,11 @@ inline double wrap_angle(double a) {
   return a <= -std::numbers::pi ? a + 2.0 * std::numbers::pi : a;
 }
 
+// The angle equal to `a` modulo 2π that is nearest to `reference`: a
+// revolute joint that follows a path must not jump by a turn when the
+// wrapped angle crosses ±π.
+inline double unwrap_near(double a, double reference) {
+  return reference + wrap_angle(a - reference);
+}
+
 }  // namespace sf::motion

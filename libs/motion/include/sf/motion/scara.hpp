@@ -7,6 +7,11 @@
 //          yaw = θ1 + θ2 + θ4.
 // Inverse (law of cosines): cos θ2 = (r² − l1² − l2²) / (2·l1·l2); the sign
 // of sin θ2 picks the elbow configuration (right-handed: θ2 > 0 is "left").
+//
+// θ1 and θ4 are revolute and may have a range wider than one turn, so an
+// angle found by atan2 is only known modulo 2π; the `near` forms pick the
+// turn closest to where the arm is, so a move never spins a joint by a turn
+// to reach an angle it is next to.
 #pragma once
 
 #include <array>
@@ -19,10 +24,15 @@ namespace sf::motion {
 
 enum class Elbow { left, right };  // sign of θ2: left = positive (counter-clockwise)
 
+inline constexpr std::array<const char*, 4> kScaraJointNames{"θ1", "θ2", "z", "θ4"};
+
 struct JointLimit {
   double min = -std::numbers::pi;
   double max = std::numbers::pi;
-  [[nodiscard]] bool contains(double v) const { return v >= min && v <= max; }
+  // With a nanometre's (nanoradian's) slack: a pose computed from joints at
+  // a limit comes back a rounding error past it.
+  [[nodiscard]] bool contains(double v) const { return v >= min - kSlack && v <= max + kSlack; }
+  static constexpr double kSlack = 1e-9;
 };
 
 struct ScaraGeometry {
@@ -39,15 +49,35 @@ struct ScaraGeometry {
 
 using ScaraJoints = std::array<double, 4>;  // θ1, θ2, z, θ4
 
+// The configuration the joints are in; θ2 = 0 (full stretch) counts as left.
+inline Elbow elbow_of(const ScaraJoints& q) {
+  return q[1] >= 0.0 ? Elbow::left : Elbow::right;
+}
+const char* to_string(Elbow elbow);
+
+// An error naming the first joint outside its limits.
+Status check_joint_limits(const ScaraGeometry& g, const ScaraJoints& q);
+
 ToolPose scara_forward(const ScaraGeometry& g, const ScaraJoints& q);
 
 // Joints that put the tool at `pose` with the given elbow; errors: out of
 // reach (naming the distance and the reach), singular, or a joint limit.
 Result<ScaraJoints> scara_inverse(const ScaraGeometry& g, const ToolPose& pose, Elbow elbow);
+// The same with θ1 and θ4 on the turn, among those within limits, closest to
+// `near`: the target of a move that starts at `near`.
+Result<ScaraJoints> scara_inverse(const ScaraGeometry& g, const ToolPose& pose, Elbow elbow,
+                                  const ScaraJoints& near);
 // The configuration of the two that is within limits and closest to
-// `current` (sum of absolute joint moves); error if neither is.
+// `current` (sum of absolute joint moves, θ1 and θ4 unwrapped near it);
+// error if neither is.
 Result<ScaraJoints> scara_inverse_nearest(const ScaraGeometry& g, const ToolPose& pose,
                                           const ScaraJoints& current);
+// Following a planned path cycle by cycle: the given elbow, θ1 and θ4 on the
+// turn nearest the previous set-point even past a limit (the planner checked
+// the limits; jumping a turn to stay inside one would be a step of 2π).
+// Errors only when the pose is out of reach.
+Result<ScaraJoints> scara_inverse_along(const ScaraGeometry& g, const ToolPose& pose, Elbow elbow,
+                                        const ScaraJoints& previous);
 
 // True when the horizontal point is in the arm's annulus and z within the
 // z axis' stroke (limits not checked for the revolute joints).

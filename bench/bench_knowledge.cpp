@@ -256,9 +256,26 @@ int main(int argc, char** argv) {
         java.push_back("-Xmx" + xmx);
       }
       const std::string property = std::string(kb::vocab::kSf) + "temperature";
-      java.insert(java.end(), {"-cp", classpath, "JenaReason", "--data", kOntology, "--data", kCatalog, "--data", data, "--rules",
-                               kRules[0], "--rules", kRules[1], "--rules", kRules[2], "--stats", "--updates",
-                               std::to_string(updates), "--update-property", property});
+      java.insert(java.end(), {"-cp",
+                               classpath,
+                               "JenaReason",
+                               "--data",
+                               kOntology,
+                               "--data",
+                               kCatalog,
+                               "--data",
+                               data,
+                               "--rules",
+                               kRules[0],
+                               "--rules",
+                               kRules[1],
+                               "--rules",
+                               kRules[2],
+                               "--stats",
+                               "--updates",
+                               std::to_string(updates),
+                               "--update-property",
+                               property});
       b = measure(java, "load_ms", sf::Stream::err);
     }
     if (!a.ok) {

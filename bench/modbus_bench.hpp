@@ -20,10 +20,12 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "sf/bench/percentile.hpp"
 #include "sf/modbus/server.hpp"
 #include "sf/modbus/tcp_client.hpp"
 
@@ -149,8 +151,8 @@ inline Figures figures(std::vector<double>& latencies_us, double seconds) {
   if (latencies_us.empty()) {
     return f;
   }
-  f.p50_us = latencies_us[latencies_us.size() / 2];
-  f.p99_us = latencies_us[std::min(latencies_us.size() - 1, latencies_us.size() * 99 / 100)];
+  f.p50_us = sf::bench::percentile_of_sorted(std::span<const double>(latencies_us), 0.50);
+  f.p99_us = sf::bench::percentile_of_sorted(std::span<const double>(latencies_us), 0.99);
   f.per_s = static_cast<double>(latencies_us.size()) / seconds;
   return f;
 }

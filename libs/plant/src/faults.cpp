@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "sf/core/text.hpp"
+
 namespace sf::plant {
 
 namespace {
@@ -14,19 +16,6 @@ constexpr FaultKind kKinds[] = {FaultKind::jam,       FaultKind::dispenser_empty
                                 FaultKind::box_drop};
 constexpr std::uint16_t kDefaultAxisError = 0x7310;  // CiA 301/402: speed (overspeed)
 constexpr std::uint32_t kDefaultException = 4;       // MB AP §7: server device failure
-
-std::vector<std::string_view> split(std::string_view text) {
-  std::vector<std::string_view> parts;
-  std::size_t start = 0;
-  while (true) {
-    const auto colon = text.find(':', start);
-    parts.push_back(text.substr(start, colon - start));
-    if (colon == std::string_view::npos) {
-      return parts;
-    }
-    start = colon + 1;
-  }
-}
 
 Result<std::uint32_t> number(std::string_view text, std::string_view what, std::uint32_t max) {
   std::uint32_t v = 0;
@@ -66,7 +55,10 @@ std::string_view to_string(FaultKind kind) {
 }
 
 Result<FaultSpec> parse_fault(std::string_view text) {
-  const auto parts = split(text);
+  auto parts = split(text, ':');
+  if (parts.empty()) {
+    parts.emplace_back();  // empty text: an unknown (empty) fault kind
+  }
   FaultSpec fault;
   bool known = false;
   for (FaultKind k : kKinds) {

@@ -27,7 +27,8 @@ TEST(UdpSegment, AMasterBringsASegmentBehindUdpToOp) {
   auto link = open_link("udp:127.0.0.1:" + std::to_string((*server_link)->local_port()));
   ASSERT_TRUE(link) << link.error().describe();
   MasterOptions o;
-  o.bus.frame_timeout = std::chrono::milliseconds{500};  // a loaded machine may not run the segment's thread for a while
+  o.bus.frame_timeout =
+      std::chrono::milliseconds{500};  // a loaded machine may not run the segment's thread for a while
   o.dc_static_drift_frames = 100;
   o.dc_static_drift_interval = std::chrono::microseconds{10};
   Master master(**link, clock, o);

@@ -26,12 +26,12 @@ bool is_ip(const std::string& text) {
          inet_pton(AF_INET6, text.c_str(), buffer.data()) == 1;
 }
 
-// The non-empty items of a comma-separated list, in lower case.
+// The non-empty items of a comma-separated list, without surrounding spaces, in lower case.
 std::vector<std::string> split_list(std::string_view text) {
   std::vector<std::string> out;
   for (const auto item : split(text, ',')) {
-    if (!item.empty()) {
-      out.push_back(lower(item));
+    if (!trim(item).empty()) {
+      out.push_back(lower(trim(item)));
     }
   }
   return out;

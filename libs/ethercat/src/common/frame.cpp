@@ -17,7 +17,6 @@ constexpr std::uint16_t kLenMask = 0x07FF;
 constexpr std::uint16_t kCirculatingBit = 0x4000;
 constexpr std::uint16_t kMoreBit = 0x8000;
 // EtherCAT header (ETG.1000.4 Table 11): length bits 10:0, reserved bit 11, type bits 15:12.
-constexpr std::uint16_t kEcatLengthMask = 0x07FF;
 constexpr unsigned kEcatTypeShift = 12;
 
 struct CommandInfo {

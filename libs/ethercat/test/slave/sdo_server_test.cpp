@@ -54,10 +54,15 @@ class SdoTest : public ::testing::Test {
     EXPECT_TRUE(coe.ok()) << (coe.ok() ? "" : coe.error().describe());
     if (!coe)
       return SdoAbort{};
-    EXPECT_EQ(coe->coe.service, CoeService::SdoResponse);
     auto response = decode_sdo_response(coe->body);
     EXPECT_TRUE(response.ok());
-    return response.ok() ? *response : SdoResponse{SdoAbort{}};
+    if (!response)
+      return SdoAbort{};
+    // Abort SDO Transfer is CoE service 2 (ETG.1000.6 §5.6.2.7.1), every
+    // other answer service 3.
+    const bool abort = std::holds_alternative<SdoAbort>(*response);
+    EXPECT_EQ(coe->coe.service, abort ? CoeService::SdoRequest : CoeService::SdoResponse);
+    return *response;
   }
   // A full upload, segmented if needed; aborts come back as their code.
   std::variant<Bytes, std::uint32_t> upload(std::uint16_t index, std::uint8_t sub, bool ca = false) {

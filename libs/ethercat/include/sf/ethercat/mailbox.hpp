@@ -261,7 +261,9 @@ Result<SdoRequest> decode_sdo_request(ByteSpan body);
 Result<SdoResponse> decode_sdo_response(ByteSpan body);
 
 // Complete mailbox messages (mailbox header + CoE header + SDO body) for the
-// common case, with the given counter and originator address.
+// common case, with the given counter and originator address. An abort goes
+// under CoE service 2 (SDO request) from either side (ETG.1000.6 §5.6.2.7.1);
+// every other response under service 3.
 Result<Bytes> make_sdo_request(const SdoRequest& request, std::uint8_t counter, std::uint16_t address = 0);
 Result<Bytes> make_sdo_response(const SdoResponse& response, std::uint8_t counter, std::uint16_t address = 0);
 

@@ -20,10 +20,6 @@
 namespace sf::ethercat::master {
 namespace {
 
-// Unrelated mailbox traffic (emergencies, stale answers) we skip while
-// waiting for the answer to our request.
-constexpr int kMaxSkippedMessages = 8;
-
 std::string object_name(std::uint16_t index, std::uint8_t subindex) {
   return fmt::format("0x{:04x}:{:02x}", index, subindex);
 }
@@ -56,39 +52,16 @@ Result<SdoResponse> sdo_exchange(Master& m, std::size_t position, const SdoReque
     return message.error();
   }
   SF_TRY(m.mailbox_write(position, *message));
-  for (int skipped = 0; skipped <= kMaxSkippedMessages; ++skipped) {
-    auto buffer = m.mailbox_read(position, m.options().mailbox_timeout);
-    if (!buffer) {
-      return buffer.error();
-    }
-    auto mailbox = decode_mailbox(*buffer);
-    if (!mailbox) {
-      return mailbox.error().with_context(fmt::format("slave {} mailbox", position));
-    }
-    if (mailbox->header.type == MailboxType::Err) {
-      auto err = decode_mailbox_error(mailbox->data);
-      return make_error(Errc::remote, fmt::format("slave {}: mailbox error {}", position,
-                                                  err ? describe(*err) : std::string_view{"(malformed)"}));
-    }
-    if (mailbox->header.type != MailboxType::CoE) {
-      continue;
-    }
-    auto coe = decode_coe(*buffer);
-    if (!coe) {
-      return coe.error().with_context(fmt::format("slave {} CoE", position));
-    }
-    auto answer = sdo_answer(*coe);
-    if (!answer) {
-      continue;  // e.g. an emergency
-    }
-    if (!*answer) {
-      return answer->error().with_context(
-          fmt::format("slave {} SDO {}", position, object_name(index, subindex)));
-    }
-    return std::move(**answer);
+  auto buffer = m.read_coe_answer(position, [](const CoeMessage& c) { return sdo_answer(c).has_value(); });
+  if (!buffer) {
+    return buffer.error().with_context(fmt::format("SDO {}", object_name(index, subindex)));
   }
-  return make_error(Errc::malformed,
-                    fmt::format("slave {}: no SDO response for {}", position, object_name(index, subindex)));
+  auto answer = *sdo_answer(decode_coe(*buffer).value());
+  if (!answer) {
+    return answer.error().with_context(
+        fmt::format("slave {} SDO {}", position, object_name(index, subindex)));
+  }
+  return answer;
 }
 
 }  // namespace

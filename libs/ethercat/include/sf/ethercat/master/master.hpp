@@ -182,6 +182,10 @@ class Master {
   std::uint8_t next_mailbox_counter(std::size_t position);
   // Mailbox reads that were lost and fetched again with a repeat request.
   [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
+  // The next CoE message from the slave that `wanted` accepts (a complete
+  // mailbox buffer); others (emergencies, stale answers) are skipped until
+  // the mailbox timeout. A mailbox error reply is an Errc::remote error.
+  Result<Bytes> read_coe_answer(std::size_t position, const std::function<bool(const CoeMessage&)>& wanted);
 
   // ---- pdo_mapping.cpp -----------------------------------------------------
   // The PDO mapping from CoE (0x1C12/0x1C13 and 0x16xx/0x1Axx) when the slave
@@ -284,7 +288,6 @@ class Master {
   // slave has no such object.
   Result<std::uint8_t> read_assign_count(std::size_t position, std::uint16_t assign);
   // mailbox.cpp
-  Result<bool> delivered(std::size_t position);
   Status repeat_request(std::size_t position, std::chrono::nanoseconds timeout);
   // configure.cpp
   Status layout_image();

@@ -1,7 +1,8 @@
-// `smartfactory ecat sim|scan|run`: the EtherCAT module from the command line.
+// `smartfactory ecat sim|scan|run|sdo`: the EtherCAT module from the command line.
 //   sim   serves an emulated segment on an interface (the slaves' side)
 //   scan  lists the slaves of a segment
 //   run   brings the segment to OP and exchanges process data cyclically
+//   sdo   lists, reads and writes a slave's object dictionary (ecat_sdo.cpp)
 // scan and run take --iface IF for a real wire or --sim SPEC for an emulated
 // segment in this process (no root, no NIC needed).
 #include <chrono>
@@ -253,6 +254,8 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   add_link_options(*scan_cmd, scan->link);
   scan_cmd->add_flag("--json", scan->json, "Print JSON instead of a table");
   scan_cmd->callback([scan, &result] { result.exit_code = run_scan(*scan); });
+
+  register_ecat_sdo(*ecat_cmd, result);
 
   auto run = std::make_shared<MasterCliOptions>();
   auto* run_cmd = ecat_cmd->add_subcommand(

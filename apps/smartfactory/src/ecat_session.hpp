@@ -16,6 +16,8 @@
 
 namespace sf::app {
 
+struct CommandResult;
+
 struct LinkChoice {
   std::string iface;  // raw socket on this interface
   std::string sim;    // or an emulated segment in-process, e.g. "servo:2"
@@ -61,6 +63,9 @@ struct RunOptions {
   double duration_s = 10.0;
   bool dc = true;
 };
+
+// `ecat sdo list|read|write` (ecat_sdo.cpp).
+void register_ecat_sdo(CLI::App& ecat_cmd, CommandResult& result);
 
 // Brings the segment to OP, runs the cycle for the duration (or until
 // SIGINT/SIGTERM), prints statistics; returns the process exit code.

@@ -37,6 +37,7 @@
 #include "sf/ethercat/master/slave_info.hpp"
 #include "sf/ethercat/master/statistics.hpp"
 #include "sf/ethercat/registers.hpp"
+#include "sf/ethercat/sdo_info.hpp"
 
 namespace sf::ethercat::master {
 
@@ -176,6 +177,16 @@ class Master {
     return sdo_download(position, index, subindex, buf);
   }
 
+  // ---- sdo_info.cpp ----------------------------------------------------------
+  // SDO Information (ETG.1000.6 §5.6.3): the indices in an OD list, an
+  // object's and an entry's description. An SDO Info Error is the slave's
+  // abort; a slave whose SII does not announce the service is refused here.
+  Result<SdoAnswer<std::vector<std::uint16_t>>> sdo_info_od_list(std::size_t position,
+                                                                 OdListType list = OdListType::All);
+  Result<SdoAnswer<ObjectDescription>> sdo_info_object(std::size_t position, std::uint16_t index);
+  Result<SdoAnswer<EntryDescription>> sdo_info_entry(std::size_t position, std::uint16_t index,
+                                                     std::uint8_t subindex, std::uint8_t value_info = 0);
+
   // ---- mailbox.cpp: raw mailbox messages over SM0 / SM1 ---------------------
   Status mailbox_write(std::size_t position, ByteSpan message);
   Result<Bytes> mailbox_read(std::size_t position, std::chrono::nanoseconds timeout);
@@ -287,6 +298,9 @@ class Master {
   // pdo_mapping.cpp: subindex 0 of 0x1C12/0x1C13; Errc::not_found when the
   // slave has no such object.
   Result<std::uint8_t> read_assign_count(std::size_t position, std::uint16_t assign);
+  // sdo_info.cpp: one request and its (reassembled) response
+  Result<SdoAnswer<SdoInfoMessage>> sdo_info_exchange(std::size_t position, const SdoInfoMessage& request,
+                                                      std::uint16_t index, std::uint8_t subindex);
   // mailbox.cpp
   Status repeat_request(std::size_t position, std::chrono::nanoseconds timeout);
   // configure.cpp

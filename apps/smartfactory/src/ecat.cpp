@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +47,7 @@ struct MasterCliOptions {
   unsigned cycle_us = 1000;
   double duration_s = 10.0;
   bool dc = true;
+  std::string final_state = "init";
 };
 
 json slave_report(ecat::slave::Segment& segment, std::size_t position) {
@@ -194,16 +196,21 @@ int run_scan(const MasterCliOptions& o) {
     return kExitFailure;
   }
   // The PDO mapping of CoE slaves is read through the mailbox: PREOP.
+  int rc_preop = kExitOk;
   if (auto st = master.request_state(ecat::AlState::PreOp); !st) {
     std::cerr << "ecat scan: PREOP: " << st.error().describe() << "\n";
+    rc_preop = kExitFailure;
   }
   Mappings pdo(master.slave_count());
+  int rc = rc_preop;
   for (std::size_t i = 0; i < master.slave_count(); ++i) {
     auto mapping = master.read_pdo_mapping(i);
     if (mapping) {
       pdo[i] = std::move(*mapping);
     } else {
+      // Still listed (as 0/0 bits, PDO source "none"), but the scan failed.
       std::cerr << "ecat scan: slave " << i << ": PDO mapping: " << mapping.error().describe() << "\n";
+      rc = kExitFailure;
     }
   }
   if (o.json) {
@@ -211,7 +218,7 @@ int run_scan(const MasterCliOptions& o) {
   } else {
     print_scan_table(master, pdo);
   }
-  return kExitOk;
+  return rc;
 }
 
 // The device models a segment spec can name, one per line (from the library's table).
@@ -270,8 +277,19 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   run_cmd->add_flag(
       "--no-dc", [run](std::int64_t) { run->dc = false; }, "Do not configure distributed clocks");
   run_cmd->add_flag("--json", run->json, "Print the result as JSON");
+  run_cmd
+      ->add_option("--final-state", run->final_state,
+                   "State to leave the segment in on exit, after disabling the drives (op keeps it running "
+                   "until the slaves' watchdogs trip)")
+      ->check(CLI::IsMember({"init", "preop", "safeop", "op"}, CLI::ignore_case))
+      ->capture_default_str();
   run_cmd->callback([run, &result] {
-    result.exit_code = run_cyclic(RunOptions{run->link, run->json, run->cycle_us, run->duration_s, run->dc});
+    static const std::map<std::string, ecat::AlState> kStates{{"init", ecat::AlState::Init},
+                                                              {"preop", ecat::AlState::PreOp},
+                                                              {"safeop", ecat::AlState::SafeOp},
+                                                              {"op", ecat::AlState::Op}};
+    result.exit_code = run_cyclic(RunOptions{run->link, run->json, run->cycle_us, run->duration_s, run->dc,
+                                             kStates.at(run->final_state)});
   });
 }
 

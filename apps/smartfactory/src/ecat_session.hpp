@@ -62,13 +62,16 @@ struct RunOptions {
   unsigned cycle_us = 1000;
   double duration_s = 10.0;
   bool dc = true;
+  ethercat::AlState final_state = ethercat::AlState::Init;
 };
 
 // `ecat sdo list|read|write` (ecat_sdo.cpp).
 void register_ecat_sdo(CLI::App& ecat_cmd, CommandResult& result);
 
-// Brings the segment to OP, runs the cycle for the duration (or until
-// SIGINT/SIGTERM), prints statistics; returns the process exit code.
+// Brings the segment to OP (resetting drive faults), runs the cycle for the
+// duration (or until SIGINT/SIGTERM), disables the axes, takes the segment
+// to options.final_state, prints statistics. Exit code 1 when an axis ended
+// in fault or a slave was lost, or bring-up failed.
 int run_cyclic(const RunOptions& options);
 
 }  // namespace sf::app

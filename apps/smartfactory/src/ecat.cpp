@@ -34,9 +34,8 @@ using nlohmann::json;
 using namespace std::chrono_literals;
 
 struct SimOptions {
-  std::string iface;
+  LinkChoice link;
   std::string slaves;
-  std::string pcap;
   std::string report;
   double drop_rate = 0.0;
 };
@@ -74,7 +73,7 @@ int run_sim(const SimOptions& o) {
     return kExitUsage;
   }
   set_input_pattern(**segment);
-  auto link = open_link(LinkChoice{o.iface, "", o.pcap}, clock);
+  auto link = open_link(o.link, clock);
   if (!link) {
     std::cerr << "ecat sim: " << link.error().describe() << "\n";
     return kExitFailure;
@@ -242,13 +241,14 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   auto sim = std::make_shared<SimOptions>();
   auto* sim_cmd = ecat_cmd->add_subcommand(
       "sim", "Emulate a segment of EtherCAT slaves on an interface until signalled (SIGINT/SIGTERM)");
-  sim_cmd->add_option("--iface", sim->iface, "Network interface to answer frames on (e.g. a veth end)")
+  sim_cmd->add_option("--iface", sim->link.iface, "Network interface to answer frames on (e.g. a veth end)")
       ->required();
   sim_cmd
       ->add_option("--slaves", sim->slaves,
                    "Segment, in ring order: KIND[:COUNT],... with KIND one of\n" + kinds_help())
       ->required();
-  sim_cmd->add_option("--pcap", sim->pcap, "Record every frame received and sent to this pcap file");
+  sim_cmd->add_option("--pcap", sim->link.pcap, "Record every frame received and sent to this pcap file");
+  add_busy_poll_option(*sim_cmd, sim->link);
   sim_cmd->add_option("--drop-rate", sim->drop_rate, "Probability (0..1) that a frame is lost in the segment")
       ->check(CLI::Range(0.0, 1.0));
   sim_cmd->add_option("--report", sim->report,

@@ -19,13 +19,17 @@ namespace sf::app {
 struct CommandResult;
 
 struct LinkChoice {
-  std::string iface;  // raw socket on this interface
-  std::string sim;    // or an emulated segment in-process, e.g. "servo:2"
-  std::string pcap;   // optional capture of every frame
+  std::string iface;          // raw socket on this interface
+  std::string sim;            // or an emulated segment in-process, e.g. "servo:2"
+  std::string pcap;           // optional capture of every frame
+  unsigned busy_poll_us = 0;  // raw socket: spin this long for a frame before sleeping
 };
 
-// --iface / --sim (one of them) and --pcap.
+// --iface / --sim (one of them), --pcap and --busy-poll-us (default
+// kMasterBusyPollUs: the master tools spin; `ecat sim` sleeps by default).
+inline constexpr unsigned kMasterBusyPollUs = 200;
 void add_link_options(CLI::App& command, LinkChoice& link);
+void add_busy_poll_option(CLI::App& command, LinkChoice& link);
 
 // Digital inputs of an emulated segment show a fixed pattern so a master
 // sees data arrive: 0xA0 + position (8-bit), 0x5A5A0000 + position (32-bit).

@@ -100,12 +100,10 @@ Result<std::unique_ptr<RawSocketLink>> RawSocketLink::open(const std::string& in
     return mac.error();
   }
   // Best effort, packet(7): our own transmissions are not looped back to us
-  // (else every send costs a second receive to skip it), and sends go to the
-  // driver without the queueing discipline. Older kernels lack them; the
-  // outgoing copies are then skipped in receive().
+  // (else every send costs a second receive to skip it). Older kernels lack
+  // it; the outgoing copies are then skipped in receive().
   const int one = 1;
   (void)::setsockopt(fd.get(), SOL_PACKET, PACKET_IGNORE_OUTGOING, &one, sizeof one);
-  (void)::setsockopt(fd.get(), SOL_PACKET, PACKET_QDISC_BYPASS, &one, sizeof one);
   return std::unique_ptr<RawSocketLink>(
       new RawSocketLink(fd.release(), static_cast<int>(index), interface, *mac, options));
 }

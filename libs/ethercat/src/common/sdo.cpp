@@ -339,6 +339,11 @@ Result<Bytes> make_sdo_response(const SdoResponse& response, std::uint8_t counte
   return wrap_sdo(encode_sdo_response(response), service, counter, address);
 }
 
+Error sdo_abort_error(const SdoAbort& abort, std::string_view context, Errc errc) {
+  return Error{errc, fmt::format("{}: {}", context, describe(abort)),
+               ProtocolCode{kSdoAbortTable, abort.code}};
+}
+
 std::string describe(const SdoAbort& abort) {
   return fmt::format("SDO abort 0x{:08X} ({}) at 0x{:04X}:{:02X}", abort.code,
                      describe(static_cast<SdoAbortCode>(abort.code)), abort.index, abort.subindex);

@@ -7,7 +7,7 @@
 // An abort from the slave (CoE service 2, ETG.1000.6 §5.6.2.7.1; service 3
 // from slaves that get that wrong) ends the transfer: the *_answer functions
 // return it typed, sdo_upload/sdo_download as an Errc::remote error with the
-// code's text.
+// code's text and the code (kSdoAbortTable).
 #include <algorithm>
 #include <optional>
 #include <variant>
@@ -197,7 +197,7 @@ Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std:
     return answer.error();
   }
   if (const auto* abort = std::get_if<SdoAbort>(&*answer)) {
-    return make_error(Errc::remote, fmt::format("slave {}: {}", position, describe(*abort)));
+    return sdo_abort_error(*abort, fmt::format("slave {}", position));
   }
   return std::get<Bytes>(std::move(*answer));
 }
@@ -209,7 +209,7 @@ Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint
     return answer.error();
   }
   if (*answer) {
-    return make_error(Errc::remote, fmt::format("slave {}: {}", position, describe(**answer)));
+    return sdo_abort_error(**answer, fmt::format("slave {}", position));
   }
   return {};
 }

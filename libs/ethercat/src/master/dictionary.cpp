@@ -16,8 +16,7 @@ Result<DictionaryObject> read_object(Master& master, std::size_t position, std::
     return object.error();
   }
   if (const auto* abort = std::get_if<SdoAbort>(&*object)) {
-    return make_error(Errc::remote,
-                      fmt::format("slave {}: object description: {}", position, describe(*abort)));
+    return sdo_abort_error(*abort, fmt::format("slave {}: object description", position));
   }
   DictionaryObject out{std::get<ObjectDescription>(std::move(*object)), {}};
   for (unsigned sub = 0; sub <= out.description.max_subindex; ++sub) {
@@ -29,8 +28,7 @@ Result<DictionaryObject> read_object(Master& master, std::size_t position, std::
       if (abort->code == static_cast<std::uint32_t>(SdoAbortCode::SubindexDoesNotExist)) {
         continue;  // gaps in an ARRAY/RECORD
       }
-      return make_error(Errc::remote,
-                        fmt::format("slave {}: entry description: {}", position, describe(*abort)));
+      return sdo_abort_error(*abort, fmt::format("slave {}: entry description", position));
     }
     DictionaryEntry e{std::get<EntryDescription>(std::move(*entry)), std::nullopt};
     if (values && (e.description.object_access & kAnyRead) != 0) {
@@ -53,7 +51,7 @@ Result<std::vector<DictionaryObject>> read_dictionary(Master& master, std::size_
     return list.error();
   }
   if (const auto* abort = std::get_if<SdoAbort>(&*list)) {
-    return make_error(Errc::remote, fmt::format("slave {}: OD list: {}", position, describe(*abort)));
+    return sdo_abort_error(*abort, fmt::format("slave {}: OD list", position));
   }
   std::vector<DictionaryObject> out;
   for (const auto index : std::get<std::vector<std::uint16_t>>(*list)) {

@@ -25,26 +25,6 @@ void add_entry(Pdo& pdo, std::uint32_t& bit_offset, std::uint16_t index, std::ui
 
 }  // namespace
 
-Result<std::uint8_t> Master::read_assign_count(std::size_t position, std::uint16_t assign) {
-  auto answer = sdo_upload_answer(position, assign, 0);
-  if (!answer) {
-    return answer.error();
-  }
-  if (const auto* abort = std::get_if<SdoAbort>(&*answer)) {
-    // A slave with a fixed mapping may not have the assignment objects; its
-    // SII says the same (not_found tells read_pdo_mapping to use it).
-    const bool missing = abort->code == static_cast<std::uint32_t>(SdoAbortCode::ObjectDoesNotExist);
-    return make_error(missing ? Errc::not_found : Errc::remote,
-                      fmt::format("slave {}: {}", position, describe(*abort)));
-  }
-  const auto& data = std::get<Bytes>(*answer);
-  if (data.empty()) {
-    return make_error(Errc::malformed,
-                      fmt::format("slave {}: 0x{:04x}:00 read as no data", position, assign));
-  }
-  return data[0];
-}
-
 Result<PdoMapping> Master::read_pdo_mapping_coe(std::size_t position) {
   PdoMapping mapping;
   mapping.source = PdoMapping::Source::coe;
@@ -52,7 +32,7 @@ Result<PdoMapping> Master::read_pdo_mapping_coe(std::size_t position) {
     const bool outputs = assign == kRxPdoAssign;
     auto& pdos = outputs ? mapping.outputs : mapping.inputs;
     std::uint32_t& bits = outputs ? mapping.output_bits : mapping.input_bits;
-    auto count = read_assign_count(position, assign);
+    auto count = sdo_read<std::uint8_t>(position, assign, 0);
     if (!count) {
       return count.error();
     }
@@ -131,7 +111,8 @@ Result<PdoMapping> Master::read_pdo_mapping(std::size_t position) {
     }
     // A CoE slave without 0x1C12/0x1C13 (abort "object does not exist") still
     // describes its fixed mapping in the SII; any other failure is one.
-    if (coe.error().code != Errc::not_found) {
+    const ProtocolCode missing{kSdoAbortTable, static_cast<std::uint32_t>(SdoAbortCode::ObjectDoesNotExist)};
+    if (coe.error().protocol_code != missing) {
       return coe.error();
     }
     log_->info("slave {}: no PDO assignment via CoE ({}), using SII", position, coe.error().message);

@@ -101,6 +101,7 @@ TEST_F(Coe, AbortForAMissingObjectCarriesCodeAndText) {
   EXPECT_EQ(missing.error().code, Errc::remote);
   EXPECT_NE(missing.error().message.find("06020000"), std::string::npos) << missing.error().message;
   EXPECT_NE(missing.error().message.find("not exist"), std::string::npos) << missing.error().message;
+  EXPECT_EQ(missing.error().protocol_code, (ProtocolCode{kSdoAbortTable, 0x06020000U}));
   // The mailbox is still usable afterwards.
   EXPECT_TRUE(b.master->sdo_read<std::uint32_t>(0, 0x1018, 1).ok());
 }

@@ -270,4 +270,10 @@ Result<Bytes> make_sdo_response(const SdoResponse& response, std::uint8_t counte
 // "SDO abort 0x06020000 (Object does not exist in the object dictionary) at 0x1234:05".
 std::string describe(const SdoAbort& abort);
 
+// The table of an Error's protocol_code that holds an SDO abort code.
+inline constexpr std::string_view kSdoAbortTable = "CoE SDO abort";
+// A slave's abort as an error, `errc` (default Errc::remote) with the
+// describe() text after `context` and the code kept typed.
+Error sdo_abort_error(const SdoAbort& abort, std::string_view context, Errc errc = Errc::remote);
+
 }  // namespace sf::ethercat

@@ -146,7 +146,8 @@ class Master {
   // CoE SDO client (ETG.1000.6 §5.6.2): expedited, normal and segmented
   // transfers are chosen by size. The *_answer forms return the slave's
   // abort typed (the transfer itself worked, the slave refused); the others
-  // make it an Errc::remote error whose message carries the code and its text.
+  // make it an Errc::remote error whose message carries the code and its text
+  // and whose protocol_code is {kSdoAbortTable, code}.
   Result<SdoAnswer<Bytes>> sdo_upload_answer(std::size_t position, std::uint16_t index, std::uint8_t subindex,
                                              bool complete_access = false);
   // nullopt: the slave took the data.
@@ -295,9 +296,6 @@ class Master {
   Status before_transition(std::size_t position, AlState from, AlState to);
   Status wait_state(std::size_t position, AlState target);
   Error state_error(std::size_t position, AlState target, const AlStatus& status);
-  // pdo_mapping.cpp: subindex 0 of 0x1C12/0x1C13; Errc::not_found when the
-  // slave has no such object.
-  Result<std::uint8_t> read_assign_count(std::size_t position, std::uint16_t assign);
   // sdo_info.cpp: one request and its (reassembled) response
   Result<SdoAnswer<SdoInfoMessage>> sdo_info_exchange(std::size_t position, const SdoInfoMessage& request,
                                                       std::uint16_t index, std::uint8_t subindex);

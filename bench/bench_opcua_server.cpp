@@ -3,6 +3,7 @@
 // ns=<demo>;s=Demo.Bench.<i> that all change every 100 ms.
 //
 //   ours:       smartfactory opcua server --demo-model --bench-variables 1000 --max-sessions N
+//               --max-channels-per-address N
 //   node-opcua: node tests/peers/opcua/node_server.mjs 0 --variables 1000 --max-sessions N
 //
 // Both run as processes of their own, on 127.0.0.1, SecurityPolicy None (ours with `--security
@@ -325,8 +326,9 @@ int run(const Options& o) {
   progress(fmt::format("starting our server ({})", o.where.smartfactory.string()));
   const std::string vars = std::to_string(o.variables);
   const std::string sessions = std::to_string(o.sessions);
-  if (!ours.start(our_server_command(o.where.smartfactory, {"--bench-variables", vars, "--max-sessions",
-                                                            sessions, "--security", "none"}),
+  if (!ours.start(our_server_command(o.where.smartfactory,
+                                     {"--bench-variables", vars, "--max-sessions", sessions,
+                                      "--max-channels-per-address", sessions, "--security", "none"}),
                   o.where.source_dir, o.verbose, 30s)) {
     progress("our server did not start");
     return 1;

@@ -42,6 +42,10 @@ bool ServerSecurity::offers(std::string_view policy_uri, MessageSecurityMode mod
                      [&](const EndpointSecurity& e) { return e.policy_uri == uri && e.mode == mode; });
 }
 
+std::shared_ptr<const sec::UserDatabase> ServerSecurity::current_users() const {
+  return users_file ? users_file->current() : users;
+}
+
 std::vector<UserTokenPolicy> user_token_policies(const ServerSecurity& security,
                                                  const EndpointSecurity& endpoint) {
   std::vector<UserTokenPolicy> out;
@@ -54,18 +58,19 @@ std::vector<UserTokenPolicy> user_token_policies(const ServerSecurity& security,
   // Secrets are encrypted (and X509 tokens signed) with the endpoint's policy; on a None
   // endpoint with Basic256Sha256 and the server certificate, never in clear.
   const bool none = is_none(endpoint.policy_uri);
-  if (!security.users || (none && security.credentials.certificate.empty())) {
+  const auto users = security.current_users();
+  if (!users || (none && security.credentials.certificate.empty())) {
     return out;
   }
   const std::string token_policy = none ? std::string(sec::kBasic256Sha256Uri) : endpoint.policy_uri;
-  if (security.users->has_password_users()) {
+  if (users->has_password_users()) {
     UserTokenPolicy user;
     user.policy_id = std::string(kUserNamePolicyId);
     user.token_type = UserTokenType::UserName;
     user.security_policy_uri = token_policy;
     out.push_back(user);
   }
-  if (security.users->has_certificate_users()) {
+  if (users->has_certificate_users()) {
     UserTokenPolicy certificate;
     certificate.policy_id = std::string(kCertificatePolicyId);
     certificate.token_type = UserTokenType::Certificate;

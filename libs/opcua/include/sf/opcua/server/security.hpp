@@ -36,6 +36,8 @@ struct ServerSecurity {
   std::shared_ptr<security::CertificateValidator> validator;
   // UserName and X509 users with their roles; nullptr: none (anonymous only).
   std::shared_ptr<const security::UserDatabase> users;
+  // Or the users of a file, re-read when it changes; replaces `users` when set.
+  std::shared_ptr<security::UsersFile> users_file;
   bool allow_anonymous = true;
   // The role of anonymous sessions; "" = no restriction beyond the nodes' own access levels.
   std::string anonymous_role;
@@ -44,6 +46,8 @@ struct ServerSecurity {
   static std::vector<EndpointSecurity> endpoints_for(const std::vector<std::string>& policy_uris,
                                                      const std::vector<MessageSecurityMode>& modes);
   [[nodiscard]] bool offers(std::string_view policy_uri, MessageSecurityMode mode) const;
+  // The users in force now (users_file's current users, else `users`; may be nullptr).
+  [[nodiscard]] std::shared_ptr<const security::UserDatabase> current_users() const;
 };
 
 // OPC 10000-4 §7.41: the user token policies of one endpoint (anonymous if allowed, UserName and

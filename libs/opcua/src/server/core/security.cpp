@@ -88,7 +88,15 @@ std::uint8_t security_level(const EndpointSecurity& endpoint) {
 }
 
 RoleAccess::RoleAccess(const AddressSpace& space, std::vector<sec::Role> roles)
-    : space_(space), roles_(std::move(roles)) {}
+    : space_(space), roles_(std::move(roles)) {
+  for (const auto permission : {sec::Permission::Read, sec::Permission::Write, sec::Permission::Call}) {
+    grants_all_.at(static_cast<std::size_t>(permission)) =
+        std::any_of(roles_.begin(), roles_.end(), [permission](const sec::Role& role) {
+          const auto& patterns = role.patterns(permission);
+          return !patterns.empty() && patterns.front() == "*";
+        });
+  }
+}
 
 std::string RoleAccess::node_text(const NodeId& node) const {
   std::string text = to_string(node);
@@ -101,6 +109,9 @@ std::string RoleAccess::node_text(const NodeId& node) const {
 }
 
 bool RoleAccess::allows(sec::Permission permission, const Node& node) const {
+  if (grants_all_.at(static_cast<std::size_t>(permission))) {
+    return true;
+  }
   const std::string text = node_text(node.node_id);
   return std::any_of(roles_.begin(), roles_.end(),
                      [&](const sec::Role& role) { return sec::allowed(role.patterns(permission), text); });

@@ -7,6 +7,7 @@
 // FindServers; OPC 10000-4 §5.4); sessions only on the endpoints listed here.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,6 +76,9 @@ class RoleAccess final : public UserContext {
 
   const AddressSpace& space_;
   std::vector<security::Role> roles_;
+  // Per permission: a role whose first pattern is "*" grants it for every node, so the node's
+  // text (formatted per call) is not needed.
+  std::array<bool, 3> grants_all_{};
 };
 
 }  // namespace sf::opcua::server

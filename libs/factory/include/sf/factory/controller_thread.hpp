@@ -115,16 +115,19 @@ class RemoteController final : public MachineController {
   RemoteController(ControllerThread& thread, const Identification& identification,
                    std::function<void(std::function<void()>)> deliver);
 
-  [[nodiscard]] const Identification& identification() const override { return identification_; }
-  [[nodiscard]] std::vector<std::string> operations() const override;
-  [[nodiscard]] std::optional<Estimate> estimate(const Operation& op,
-                                                 std::string* why_not = nullptr) const override;
-  Status submit(const std::string& job, const Operation& op) override;
-  Status cancel(const std::string& job) override;
-  Status command(PackMLCommand command) override;
   // The controller's own thread polls it: nothing to do here.
   Clock::time_point poll(Clock::time_point now) override;
+  // The thread's snapshot, without waiting for the controller.
   [[nodiscard]] ControllerStatus status() const override;
+  [[nodiscard]] const Identification& identification() const override { return identification_; }
+
+  // Calls on the controller's thread (each waits for its next poll):
+  [[nodiscard]] std::vector<std::string> operations() const override;
+  Status command(PackMLCommand command) override;
+  [[nodiscard]] std::optional<Estimate> estimate(const Operation& op,
+                                                 std::string* why_not = nullptr) const override;
+  Status cancel(const std::string& job) override;
+  Status submit(const std::string& job, const Operation& op) override;
 
  private:
   ControllerThread* thread_;

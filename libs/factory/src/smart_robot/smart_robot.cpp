@@ -57,7 +57,8 @@ Status SmartRobot::start() {
   SF_TRY(motion::validate(config_.limits));
   SF_TRY(master_->bring_up(ethercat::AlState::Op));
   SF_TRY(arm_->attach());
-  identification_.serial_number = fmt::format("{}", arm_->serial_number());
+  identification_.serial_number =
+      config_.serial_number.empty() ? fmt::format("{}", arm_->serial_number()) : config_.serial_number;
   started_ = true;
   return {};
 }

@@ -69,8 +69,9 @@ struct PickPlace {
 };
 
 struct SmartRobotConfig {
-  std::string robot;      // its name in the layout
-  std::size_t slave = 0;  // the smart controller's position in the segment
+  std::string robot;          // its name in the layout
+  std::string serial_number;  // empty: the smart controller's SII serial number
+  std::size_t slave = 0;      // the smart controller's position in the segment
   motion::MotionLimits limits;
   PickPlace pick_place;
   // Reset and Start by itself at start-up (and Start again after a reconnect).

@@ -39,13 +39,7 @@ Status parse_dds(const Node& n, DdsOptions& d) {
 }  // namespace
 
 negotiation::DdsSettings dds_settings(const DdsOptions& o) {
-  negotiation::DdsSettings s;
-  s.machining_domain = o.machining_domain;
-  s.conveying_domain = o.conveying_domain;
-  s.partition = o.partition;
-  s.network = o.interface == "lo" ? dds::loopback_network() : dds::interface_network(o.interface);
-  s.liveliness_lease = o.lease;
-  return s;
+  return negotiation::dds_settings(o.machining_domain, o.conveying_domain, o.partition, o.interface, o.lease);
 }
 
 Status read_duration(const Node& n, std::string_view key, double unit_ms, std::chrono::milliseconds& out) {

@@ -47,6 +47,12 @@ struct DdsSettings {
   std::int32_t history_depth = 16;
 };
 
+// Settings from what a configuration file or command line gives: the domains,
+// the partition, a network interface by name ("lo": loopback only, else
+// multicast discovery on that interface) and the liveliness lease.
+DdsSettings dds_settings(dds::DomainId machining_domain, dds::DomainId conveying_domain,
+                         std::string partition, const std::string& interface, std::chrono::nanoseconds lease);
+
 class ProductEndpoints final : public ManagerTransport, public RouteTransport {
  public:
   // `conveying`: also join the ConveyingDomain (for route negotiation). `clock` times the

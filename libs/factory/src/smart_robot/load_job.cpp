@@ -121,7 +121,8 @@ std::vector<Leg> load_legs(const line::Layout& layout, const line::RobotSpec& ro
   return legs;
 }
 
-std::vector<motion::Waypoint> from_here(const motion::Vec3& here, std::vector<motion::Waypoint> waypoints) {
+std::vector<motion::Waypoint> from_here(const motion::Vec3& here,
+                                        const std::vector<motion::Waypoint>& waypoints) {
   std::vector<motion::Waypoint> out;
   motion::Vec3 at = here;
   for (auto& w : waypoints) {

@@ -61,6 +61,7 @@ Result<std::chrono::nanoseconds> load_duration(const line::RobotSpec& robot,
                                                const PickPlace& how);
 
 // The way-points of a move without those the tool is already at (a zero-length line cannot be planned).
-std::vector<motion::Waypoint> from_here(const motion::Vec3& here, std::vector<motion::Waypoint> waypoints);
+std::vector<motion::Waypoint> from_here(const motion::Vec3& here,
+                                        const std::vector<motion::Waypoint>& waypoints);
 
 }  // namespace sf::factory::smart_robot

@@ -42,6 +42,9 @@ void register_kb(CLI::App& app, CommandResult& result);
 // `plant [check|registers|ontology|faults|snapshot|events]` (plant module).
 void register_plant(CLI::App& app, CommandResult& result);
 
+// `machine --config FILE` (factory module): the smart robot's IPC.
+void register_machine(CLI::App& app, CommandResult& result);
+
 // `history query|series|events|retention|write` (historian module).
 void register_history(CLI::App& app, CommandResult& result);
 

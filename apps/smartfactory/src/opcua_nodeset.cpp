@@ -27,12 +27,12 @@ void print_report(const std::string& file, const ua::server::NodeSetImportReport
 }
 
 Status import_all(ua::server::AddressSpace& space, const std::vector<std::string>& files) {
-  for (const std::string& file : files) {
-    auto report = ua::server::import_nodeset_file(space, file);
-    if (!report) {
-      return report.error();
-    }
-    print_report(file, *report);
+  auto reports = ua::server::import_nodeset_files(space, files);
+  if (!reports) {
+    return reports.error();
+  }
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    print_report(files[i], reports->at(i));
   }
   return {};
 }

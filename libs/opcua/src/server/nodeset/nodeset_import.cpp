@@ -441,4 +441,17 @@ Result<NodeSetImportReport> import_nodeset_file(AddressSpace& space, const std::
   return import_nodeset(space, text.str(), options);
 }
 
+Result<std::vector<NodeSetImportReport>> import_nodeset_files(AddressSpace& space,
+                                                              const std::vector<std::string>& files) {
+  std::vector<NodeSetImportReport> reports;
+  for (const std::string& file : files) {
+    auto report = import_nodeset_file(space, file);
+    if (!report) {
+      return report.error();
+    }
+    reports.push_back(std::move(*report));
+  }
+  return reports;
+}
+
 }  // namespace sf::opcua::server

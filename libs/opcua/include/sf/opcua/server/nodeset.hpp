@@ -44,6 +44,10 @@ Result<NodeSetImportReport> import_nodeset(AddressSpace& space, std::string_view
                                            const NodeSetImportOptions& options = {});
 Result<NodeSetImportReport> import_nodeset_file(AddressSpace& space, const std::filesystem::path& path,
                                                 NodeSetImportOptions options = {});
+// Imports the files in order (a later file may use an earlier one's nodes); stops at the first
+// that fails (its error names it), the files before it stay imported. One report per file.
+Result<std::vector<NodeSetImportReport>> import_nodeset_files(AddressSpace& space,
+                                                              const std::vector<std::string>& files);
 
 struct NodeSetExportOptions {
   // The namespaces whose nodes are written; empty = every namespace but 0.

@@ -164,7 +164,8 @@ PackMLStatus PackMLUnit::status() const {
   PackMLStatus s = totals_;
   s.state = state_;
   s.mode = mode_;
-  s.time_in_state[static_cast<std::size_t>(state_)] += clock_->now() - entered_;
+  s.state_current_time = clock_->now() - entered_;
+  s.time_in_state[static_cast<std::size_t>(state_)] += s.state_current_time;
   return s;
 }
 

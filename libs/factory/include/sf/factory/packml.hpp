@@ -77,7 +77,8 @@ struct PackMLStatus {
   std::optional<StopReason> stop_reason;
   std::uint64_t produced = 0;                                           // Admin.ProdProcessedCount
   std::uint64_t defective = 0;                                          // Admin.ProdDefectiveCount
-  std::array<std::chrono::nanoseconds, kPackMLStates> time_in_state{};  // Admin.StateCurrentTime totals
+  std::array<std::chrono::nanoseconds, kPackMLStates> time_in_state{};  // Admin.StateCumulativeTime
+  std::chrono::nanoseconds state_current_time{0};                       // Admin.StateCurrentTime
 };
 
 // The state machine of one unit. Commands that the current state does not

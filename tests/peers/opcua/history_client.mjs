@@ -11,13 +11,14 @@ import process from "node:process";
 
 import {
   AttributeIds,
-  BrowseDirection,
   DataType,
   HistoryReadRequest,
   OPCUAClient,
   ReadRawModifiedDetails,
   TimestampsToReturn,
 } from "node-opcua";
+
+import { resolve } from "./browse_util.mjs";
 
 // node-opcua holds Int64/UInt64 as [high, low] 32-bit halves.
 function plain(variant) {
@@ -28,32 +29,13 @@ function plain(variant) {
   return typeof v === "bigint" ? Number(v) : v;
 }
 
-async function resolve(session, path) {
-  let nodeId = "i=85";
-  for (const name of path.split("/").filter((n) => n.length > 0)) {
-    const result = await session.browse({
-      nodeId,
-      referenceTypeId: "HierarchicalReferences",
-      includeSubtypes: true,
-      browseDirection: BrowseDirection.Forward,
-      resultMask: 63,
-    });
-    const hit = (result.references ?? []).find((r) => r.browseName.name === name);
-    if (!hit) {
-      throw new Error(`no '${name}' below ${nodeId}`);
-    }
-    nodeId = hit.nodeId.toString();
-  }
-  return nodeId;
-}
-
 async function main() {
   const [url, path, ...rest] = process.argv.slice(2);
   const page = rest[0] === "--page" ? Number.parseInt(rest[1], 10) : 5;
   const client = OPCUAClient.create({ endpointMustExist: false, connectionStrategy: { maxRetry: 2 } });
   await client.connect(url);
   const session = await client.createSession();
-  const nodeId = await resolve(session, path);
+  const nodeId = await resolve(session, "i=85", path);
   const [historizing] = await session.read([{ nodeId, attributeId: AttributeIds.Historizing }]);
   const values = [];
   let continuationPoint = null;

@@ -18,7 +18,6 @@ import process from "node:process";
 
 import {
   AttributeIds,
-  BrowseDirection,
   DataType,
   NodeClass,
   OPCUAClient,
@@ -28,6 +27,7 @@ import {
 import { AddressSpace } from "node-opcua-address-space";
 import { generateAddressSpace } from "node-opcua-address-space/nodeJS.js";
 
+import { children } from "./browse_util.mjs";
 import { start_nodeset_server } from "./loopback_server.mjs";
 
 const log = (...args) => process.stderr.write(`[nodeset_peer] ${args.join(" ")}\n`);
@@ -58,18 +58,6 @@ function plain(value) {
     return out;
   }
   return value;
-}
-
-// Forward hierarchical references of a node, with node class and type definition.
-async function children(session, nodeId) {
-  const result = await session.browse({
-    nodeId,
-    referenceTypeId: "HierarchicalReferences",
-    includeSubtypes: true,
-    browseDirection: BrowseDirection.Forward,
-    resultMask: 63,
-  });
-  return result.references ?? [];
 }
 
 async function describe(session, ref, trail, namespaces) {

@@ -227,7 +227,7 @@ void MachineModel::remove_tag(srv::AddressSpace& space, const std::string& tag) 
 }
 
 void MachineModel::apply(srv::AddressSpace& space, const std::vector<ModelValue>& values) {
-  static const auto log = log::get("factory");
+  static const auto logger = log::get("factory");
   for (const ModelValue& v : values) {
     Status written;
     const auto tag = tags_.find(v.name);
@@ -250,7 +250,7 @@ void MachineModel::apply(srv::AddressSpace& space, const std::vector<ModelValue>
       written = space.set_value(node("Tags." + v.name), v.value);
     }
     if (!written) {
-      log->warn("machine {}: {}: {}", name_, v.name, written.error().message);
+      logger->warn("machine {}: {}: {}", name_, v.name, written.error().message);
     }
   }
 }

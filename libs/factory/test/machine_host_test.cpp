@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <future>
 #include <optional>
 #include <thread>
 
@@ -154,6 +155,10 @@ TEST_F(MachineHostTest, OperatorsDriveThePackMLStateMachineAndSubscribersSeeIt) 
   EXPECT_EQ(read("PackML.Admin.StopReason.Message").value, ua::Variant("operator"));
   EXPECT_EQ(execute(PackMLCommand::Unhold), ua::StatusCode{});
   ASSERT_TRUE(saw(PackMLState::Execute));
+  EXPECT_EQ(execute(PackMLCommand::Suspend), ua::StatusCode{});
+  ASSERT_TRUE(saw(PackMLState::Suspended));
+  EXPECT_EQ(execute(PackMLCommand::Unsuspend), ua::StatusCode{});
+  ASSERT_TRUE(saw(PackMLState::Execute));
   EXPECT_EQ(call("PackML.BaseStateMachine.MachineState", PackMLCommand::Stop), ua::StatusCode{});
   ASSERT_TRUE(saw(PackMLState::Stopped));
   // The commands ran on the controller: its own unit is where the model says.
@@ -212,6 +217,41 @@ TEST_F(MachineHostTest, WithoutItsControllerThreadACommandTimesOutAndNeverRuns) 
   auto out = client->call_method(object, reset, {});
   ASSERT_FALSE(out.ok());
   EXPECT_EQ(ua::status_of(out.error()), ua::status::BadShutdown);
+}
+
+TEST(ServeMachine, ServesUntilStoppedAndRefusesABadNodeset) {
+  PackMLMachine machine(SteadyClock::instance());
+  MachineServerConfig config;
+  config.server.transport.host = "127.0.0.1";
+  config.server.transport.port = 0;
+  config.server.advertised_host = "127.0.0.1";
+  std::stop_source stop;
+  std::promise<std::string> url;
+  Status served;
+  std::thread process([&] {
+    served = serve_machine(machine, config, SteadyClock::instance(), stop.get_token(),
+                           [&](const ua::server::Server& s) { url.set_value(s.endpoint_url()); });
+  });
+  ua::ClientConfig cc;
+  cc.endpoint_url = url.get_future().get();
+  cc.auto_reconnect = false;
+  ua::SyncClient client(cc);
+  ASSERT_TRUE(client.connect().ok());
+  const auto ns = client.namespace_index(kMachineNamespace);
+  ASSERT_TRUE(ns.ok());
+  auto state = client.read_value(ua::NodeId(*ns, ua::String("ScaraRobot1.PackML.Status.StateCurrent")));
+  ASSERT_TRUE(state.ok());
+  EXPECT_EQ(state->value, ua::Variant(static_cast<std::int32_t>(PackMLState::Stopped)));
+  client.disconnect();
+  stop.request_stop();
+  process.join();
+  EXPECT_TRUE(served.ok());
+
+  config.nodesets = {"/nonexistent/candy.xml"};
+  const Status refused = serve_machine(machine, config, SteadyClock::instance(), {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("/nonexistent/candy.xml"), std::string::npos)
+      << refused.error().message;
 }
 
 }  // namespace

@@ -218,14 +218,17 @@ ua::NodeId MachineHost::node(std::string_view path) const {
 }
 
 Status serve_machine(MachineController& controller, const MachineServerConfig& config, const Clock& clock,
-                     std::stop_token stop, const std::function<void(const ua::server::Server&)>& started) {
+                     const std::stop_token& stop,
+                     const std::function<void(const ua::server::Server&)>& started) {
   ua::server::Server server(config.server, clock);
   Status imported;
   server.with_address_space([&](ua::server::AddressSpace& space) {
     auto reports = ua::server::import_nodeset_files(space, config.nodesets);
     imported = reports ? Status{} : Status(reports.error());
   });
-  SF_TRY(imported);
+  if (!imported) {
+    return imported.error();
+  }
   auto host = MachineHost::attach(server, controller, clock, config.host);
   if (!host) {
     return host.error();

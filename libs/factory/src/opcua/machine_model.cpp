@@ -151,7 +151,8 @@ NodeId MachineModel::node(std::string_view path) const {
 }
 
 Result<MachineModel> MachineModel::create(srv::AddressSpace& space, const Identification& identification,
-                                          CommandHandler commands, const MachineModelOptions& options) {
+                                          const CommandHandler& commands,
+                                          const MachineModelOptions& options) {
   const std::string name = line::iri_name(identification.name);
   if (name.empty()) {
     return make_error(Errc::invalid_argument,

@@ -106,7 +106,7 @@ struct MachineServerConfig {
 // endpoint URL. Errors: a nodeset that does not import, a port that does not bind, a model that
 // cannot be built.
 Status serve_machine(MachineController& controller, const MachineServerConfig& config, const Clock& clock,
-                     std::stop_token stop,
+                     const std::stop_token& stop,
                      const std::function<void(const opcua::server::Server&)>& started = {});
 
 }  // namespace sf::factory

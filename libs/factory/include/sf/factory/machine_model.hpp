@@ -92,7 +92,7 @@ class MachineModel {
   // Builds the machine's nodes (and, once per address space, the Machines folder and the
   // stand-in types). Errors: a node that cannot be added (e.g. a second model of the same name).
   static Result<MachineModel> create(opcua::server::AddressSpace& space, const Identification& identification,
-                                     CommandHandler commands, const MachineModelOptions& options = {});
+                                     const CommandHandler& commands, const MachineModelOptions& options = {});
 
   // Writes the values (StatusPublisher::changes) to their nodes; a tag seen for the first time
   // gets its variable (typed by its value), a tag gone is deleted.

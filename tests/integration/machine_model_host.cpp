@@ -1,7 +1,7 @@
 // The OPC UA model of a machine controller (libs/factory machine_model.hpp) served for
 // machine_model_test.py: serve_machine with the test PackML controller
-// (sf/factory/testing/packml_machine.hpp) on loopback, as the `machine` and `gateway` processes
-// serve theirs, until SIGTERM or SIGINT.
+// (sf/factory/testing/packml_machine.hpp) on its controller thread, on loopback, as the `machine`
+// and `gateway` processes serve theirs, until SIGTERM or SIGINT.
 //   machine_model_host --pki DIR [--users FILE] [--anonymous ROLE] [--modes none] [--nodeset FILE]...
 // Prints "listening on <endpoint URL>" when clients may connect.
 #include <pthread.h>
@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   sf::factory::MachineServerConfig config;
+  config.thread.realtime = false;
   config.server.transport.host = "127.0.0.1";
   config.server.transport.port = 0;
   config.server.advertised_host = "127.0.0.1";
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
   sf::factory::testing::PackMLMachine machine(sf::SteadyClock::instance());
   const auto st =
       sf::factory::serve_machine(machine, config, sf::SteadyClock::instance(), stop.get_token(),
-                                 [](const sf::opcua::server::Server& server) {
+                                 [](const sf::opcua::server::Server& server, sf::factory::ControllerThread&) {
                                    std::printf("listening on %s\n", server.endpoint_url().c_str());
                                    std::fflush(stdout);
                                  });

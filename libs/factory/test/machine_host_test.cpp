@@ -1,7 +1,8 @@
 // A controller served by MachineHost on our OPC UA server, seen by our OPC UA client over
 // loopback: browse and read the model, subscribe to the PackML state, call the PackML methods
 // (refused in the wrong state and for viewers), tag quality as StatusCode, and the threading
-// contract (commands run on the controller thread; without it they time out and never run).
+// contract (commands run on the controller's thread; one it does not take in time times out and
+// never runs).
 #include "sf/factory/machine_host.hpp"
 
 #include <gtest/gtest.h>
@@ -25,9 +26,21 @@ using testing::PackMLMachine;
 
 constexpr std::string_view kExecuteState = "PackML.BaseStateMachine.MachineState.ExecuteState";
 
+// The controller's thread as a process runs it, without real-time scheduling, its snapshot
+// refreshed every 2 ms.
+ControllerThreadOptions thread_options() {
+  ControllerThreadOptions o;
+  o.realtime = false;
+  o.status_interval = 2ms;
+  return o;
+}
+
 class MachineHostTest : public ::testing::Test {
  protected:
-  ~MachineHostTest() override { stop_controller(); }
+  ~MachineHostTest() override {
+    host.reset();  // before the controller thread (machine_host.hpp)
+    thread.stop();
+  }
 
   // A server whose anonymous users have `role`, and the machine's model on it.
   void serve(std::string_view role, MachineHostOptions options = {}) {
@@ -37,7 +50,8 @@ class MachineHostTest : public ::testing::Test {
     config.advertised_host = "127.0.0.1";
     config.security.anonymous_role = std::string(role);
     server = std::make_unique<ua::server::Server>(config);
-    auto attached = MachineHost::attach(*server, machine, SteadyClock::instance(), std::move(options));
+    options.publish_interval = 5ms;
+    auto attached = MachineHost::attach(*server, thread, machine.identification(), std::move(options));
     ASSERT_TRUE(attached.ok()) << attached.error().describe();
     host = std::move(*attached);
     ASSERT_TRUE(server->start().ok());
@@ -47,15 +61,9 @@ class MachineHostTest : public ::testing::Test {
     client = std::make_unique<ua::SyncClient>(cc);
     ASSERT_TRUE(client->connect().ok());
   }
-  // The controller thread.
-  void start_controller() {
-    controller = std::thread([this] { host->run(); });
-  }
-  void stop_controller() {
-    if (controller.joinable()) {
-      host->stop();
-      controller.join();
-    }
+  // The state of the controller itself, asked on its thread.
+  PackMLState controller_state() {
+    return thread.call([](MachineController& m) { return m.status().packml.state; });
   }
 
   ua::StatusCode call(std::string_view object, PackMLCommand command) {
@@ -104,11 +112,11 @@ class MachineHostTest : public ::testing::Test {
   }
 
   PackMLMachine machine{SteadyClock::instance()};
+  ControllerThread thread{machine, SteadyClock::instance(), thread_options()};
   std::unique_ptr<ua::server::Server> server;
   std::unique_ptr<MachineHost> host;
   std::unique_ptr<ua::SyncClient> client;
   std::optional<ua::SyncClient::SubscriptionId> subscription;
-  std::thread controller;
 };
 
 TEST_F(MachineHostTest, ClientsBrowseTheModelAndReadIdentificationAndState) {
@@ -142,7 +150,7 @@ TEST_F(MachineHostTest, ClientsBrowseTheModelAndReadIdentificationAndState) {
 
 TEST_F(MachineHostTest, OperatorsDriveThePackMLStateMachineAndSubscribersSeeIt) {
   serve("operator");
-  start_controller();
+  thread.start();
   auto states = watch("PackML.Status.StateCurrent");
   const auto saw = [&](PackMLState s) { return state_is(*states, s); };
   ASSERT_TRUE(saw(PackMLState::Stopped));
@@ -162,12 +170,12 @@ TEST_F(MachineHostTest, OperatorsDriveThePackMLStateMachineAndSubscribersSeeIt) 
   EXPECT_EQ(call("PackML.BaseStateMachine.MachineState", PackMLCommand::Stop), ua::StatusCode{});
   ASSERT_TRUE(saw(PackMLState::Stopped));
   // The commands ran on the controller: its own unit is where the model says.
-  host->post([](MachineController& m) { EXPECT_EQ(m.status().packml.state, PackMLState::Stopped); });
+  EXPECT_EQ(controller_state(), PackMLState::Stopped);
 }
 
 TEST_F(MachineHostTest, CommandsTheStateMachineRefusesAreBadInvalidState) {
   serve("engineer");
-  start_controller();
+  thread.start();
   EXPECT_EQ(execute(PackMLCommand::Unhold), ua::status::BadInvalidState);  // Stopped: nothing held
   EXPECT_EQ(execute(PackMLCommand::Start), ua::status::BadInvalidState);   // Start needs Idle
   EXPECT_EQ(call("PackML.BaseStateMachine", PackMLCommand::Clear), ua::status::BadInvalidState);
@@ -182,17 +190,17 @@ TEST_F(MachineHostTest, CommandsTheStateMachineRefusesAreBadInvalidState) {
 
 TEST_F(MachineHostTest, ViewersMayReadButNotCommand) {
   serve("viewer");
-  start_controller();
+  thread.start();
   EXPECT_EQ(execute(PackMLCommand::Reset), ua::status::BadUserAccessDenied);
   EXPECT_EQ(call("PackML.BaseStateMachine", PackMLCommand::Abort), ua::status::BadUserAccessDenied);
-  host->post([](MachineController& m) { EXPECT_EQ(m.status().packml.state, PackMLState::Stopped); });
+  EXPECT_EQ(controller_state(), PackMLState::Stopped);
   EXPECT_EQ(state(), static_cast<std::int32_t>(PackMLState::Stopped));
 }
 
 TEST_F(MachineHostTest, TagQualityReachesClientsAsStatusCodeWithTheReason) {
   serve("viewer");
-  start_controller();
-  host->post([](MachineController& m) {
+  thread.start();
+  thread.post([](MachineController& m) {
     static_cast<PackMLMachine&>(m).set_tag("sensor.temperature", 23.0, Tag::Quality::bad, "PLC unreachable");
   });
   auto temperature = watch("Tags.sensor.temperature");
@@ -203,13 +211,16 @@ TEST_F(MachineHostTest, TagQualityReachesClientsAsStatusCodeWithTheReason) {
   EXPECT_EQ(*read("Tags.sensor.temperature.Reason").value.get_if<ua::String>(), "PLC unreachable");
 }
 
-TEST_F(MachineHostTest, WithoutItsControllerThreadACommandTimesOutAndNeverRuns) {
+TEST_F(MachineHostTest, ACommandTheControllerThreadDoesNotTakeInTimeTimesOutAndNeverRuns) {
   MachineHostOptions options;
   options.command_timeout = 200ms;
   serve("operator", options);
+  thread.start();
+  std::promise<void> release;
+  thread.post([busy = release.get_future().share()](MachineController&) { busy.wait(); });  // a stuck turn
   EXPECT_EQ(execute(PackMLCommand::Reset), ua::status::BadTimeout);
-  host->step(SteadyClock::instance().now());  // the controller thread comes back
-  EXPECT_EQ(machine.state(), PackMLState::Stopped);
+  release.set_value();  // the controller thread comes back: the late Reset is dropped
+  EXPECT_EQ(controller_state(), PackMLState::Stopped);
   // A host that is gone answers at once.
   const auto object = host->node(kExecuteState);
   const auto reset = host->node(fmt::format("{}.Reset", kExecuteState));
@@ -225,12 +236,14 @@ TEST(ServeMachine, ServesUntilStoppedAndRefusesABadNodeset) {
   config.server.transport.host = "127.0.0.1";
   config.server.transport.port = 0;
   config.server.advertised_host = "127.0.0.1";
+  config.thread = thread_options();
   std::stop_source stop;
   std::promise<std::string> url;
   Status served;
   std::thread process([&] {
-    served = serve_machine(machine, config, SteadyClock::instance(), stop.get_token(),
-                           [&](const ua::server::Server& s) { url.set_value(s.endpoint_url()); });
+    served = serve_machine(
+        machine, config, SteadyClock::instance(), stop.get_token(),
+        [&](const ua::server::Server& s, ControllerThread&) { url.set_value(s.endpoint_url()); });
   });
   ua::ClientConfig cc;
   cc.endpoint_url = url.get_future().get();
@@ -248,7 +261,7 @@ TEST(ServeMachine, ServesUntilStoppedAndRefusesABadNodeset) {
   EXPECT_TRUE(served.ok());
 
   config.nodesets = {"/nonexistent/candy.xml"};
-  const Status refused = serve_machine(machine, config, SteadyClock::instance(), {});
+  const Status refused = serve_machine(machine, config, SteadyClock::instance(), std::stop_token{});
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("/nonexistent/candy.xml"), std::string::npos)
       << refused.error().message;

@@ -36,10 +36,9 @@
 // UncertainLastUsableValue, bad → BadNoCommunication, both with the value kept; Tag::reason is
 // the tag's Reason property (empty when good).
 //
-// Threads: MachineModel lives on the server's loop thread (create/apply inside
-// Server::with_address_space or a posted task); StatusPublisher lives on the controller's thread.
-// The methods call the CommandHandler on the loop thread. MachineHost (machine_host.hpp) wires
-// the two threads together.
+// Threads: MachineModel and StatusPublisher are used by one thread, the server's loop thread
+// (inside Server::with_address_space or a loop timer); the methods call the CommandHandler there
+// too. MachineHost (machine_host.hpp) connects them to the controller's own thread.
 #pragma once
 
 #include <array>
@@ -118,8 +117,8 @@ class MachineModel {
   std::map<std::string, opcua::BuiltinType, std::less<>> tags_;  // the tag variables made, by type
 };
 
-// The controller thread's half: turns ControllerStatus into ModelValues and keeps what was
-// published last, so only changes cross to the server (and subscribers see exactly those).
+// ControllerStatus as ModelValues, keeping what was published last so that only changes are
+// written to the address space (and subscribers see exactly those).
 class StatusPublisher {
  public:
   // Durations (StateCurrentTime, StateCumulativeTime) are published in whole `time_resolution`

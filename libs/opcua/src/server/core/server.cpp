@@ -175,13 +175,6 @@ void Server::with_address_space(const std::function<void(AddressSpace&)>& fn) {
   thread_->run_sync([&] { fn(space_); });
 }
 
-void Server::post(std::function<void(AddressSpace&)> fn) {
-  if (!thread_) {
-    return;
-  }
-  thread_->loop().post([this, fn = std::move(fn)] { fn(space_); });
-}
-
 net::EventLoop& Server::loop() {
   return thread_->loop();
 }

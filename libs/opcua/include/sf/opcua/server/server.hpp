@@ -54,10 +54,6 @@ class Server {
   // Runs fn with the address space on the loop thread and waits for it (directly when called
   // on the loop thread, e.g. from a value callback or timer).
   void with_address_space(const std::function<void(AddressSpace&)>& fn);
-  // Runs fn with the address space on the loop thread later, without waiting: for threads that
-  // must not block on the server (a controller's cycle publishing its values). Any thread; fn is
-  // dropped once the server is stopped.
-  void post(std::function<void(AddressSpace&)> fn);
   // The loop the server runs on, for the application's timers (e.g. a simulated sensor).
   net::EventLoop& loop();
 

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "sf/factory/testing/packml_machine.hpp"
@@ -145,10 +146,8 @@ TEST_F(MachineModelTest, StatusBecomesValuesAndOnlyChangesArePublished) {
   ASSERT_TRUE(machine.command(PackMLCommand::Reset).ok());
   clock.advance(std::chrono::milliseconds(300));
   auto reset = publisher.changes(machine.status(), clock.utc_now());
-  std::vector<std::string> names;
-  for (const auto& v : reset) {
-    names.push_back(v.name);
-  }
+  std::vector<std::string> names(reset.size());
+  std::transform(reset.begin(), reset.end(), names.begin(), [](const ModelValue& v) { return v.name; });
   EXPECT_EQ(names, (std::vector<std::string>{
                        "PackML.Status.StateCurrent", "PackML.BaseStateMachine.MachineState.CurrentState",
                        "PackML.BaseStateMachine.MachineState.ExecuteState.CurrentState"}));

@@ -16,9 +16,7 @@ bool all_tags(const ControllerStatus& s, Q quality, std::string_view reason_part
 
 TEST(GatewayLink, AnUnreachablePlcTurnsTheTagsBadStopsTheBidsAndRecovers) {
   GatewayRig rig;
-  Gateway& c4 = rig.add("conveyor4", "conveyor");
-  const auto id = rig.put_box("conveyor4/denso");
-  rig.run_for(100ms);
+  auto [c4, id] = rig.add_with_box("conveyor4", "conveyor", "conveyor4/denso");
   ASSERT_TRUE(c4.submit("t1", rig.transport(id, "conveyor4/denso", "conveyor4/download")));
   rig.run_for(1s);
   ASSERT_TRUE(all_tags(c4.status(), Q::good, ""));
@@ -101,9 +99,7 @@ TEST(GatewayLink, AnOperatorStopsAGatewayWhoseDeviceIsGone) {
 
 TEST(GatewayFaults, AnEmptyDispenserFailsTheJobAndStopsTheBidsForThatCandyUntilReset) {
   GatewayRig rig;
-  Gateway& toshiba = rig.add("toshiba", "legacy-robot");
-  const auto id = rig.put_box("conveyor3/toshiba");
-  rig.run_for(100ms);
+  auto [toshiba, id] = rig.add_with_box("toshiba", "legacy-robot", "conveyor3/toshiba");
   rig.inject("dispenser-empty:toshiba-toffee");
   const Operation toffee{"load", {{"candy", rig.candy("toffee")}, {"count", 2}, {"box", id}, {"slot", 0}}};
   const JobOutcome o = rig.run_job(toshiba, "l1", toffee);
@@ -135,9 +131,7 @@ TEST(GatewayFaults, AnEmptyDispenserFailsTheJobAndStopsTheBidsForThatCandyUntilR
 
 TEST(GatewayFaults, AJamFailsTheTransportAndAbortsWithTheStopReason) {
   GatewayRig rig;
-  Gateway& c4 = rig.add("conveyor4", "conveyor");
-  const auto id = rig.put_box("conveyor4/denso");
-  rig.run_for(100ms);
+  auto [c4, id] = rig.add_with_box("conveyor4", "conveyor", "conveyor4/denso");
   ASSERT_TRUE(c4.submit("t1", rig.transport(id, "conveyor4/denso", "conveyor4/download")));
   ASSERT_TRUE(c4.submit("t2", rig.transport(id, "conveyor4/download", "conveyor5")));
   rig.run_for(1s);
@@ -189,9 +183,8 @@ TEST(GatewayFaults, ResettingWaitsWhileTheJamStays) {
 
 TEST(GatewayFaults, ABoxThatNeverArrivesTimesTheTransportOut) {
   GatewayRig rig;
-  Gateway& c4 = rig.add("conveyor4", "conveyor", "start: execute\njob_timeout_s: 2\n");
-  const auto id = rig.put_box("conveyor4/denso");
-  rig.run_for(100ms);
+  auto [c4, id] =
+      rig.add_with_box("conveyor4", "conveyor", "conveyor4/denso", "start: execute\njob_timeout_s: 2\n");
   ASSERT_TRUE(c4.submit("t1", rig.transport(id, "conveyor4/denso", "conveyor4/download")));
   rig.run_for(1s);
   rig.inject(fmt::format("box-drop:{}", id));

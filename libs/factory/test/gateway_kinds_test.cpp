@@ -40,9 +40,7 @@ TEST(GatewayUploader, PutsABoxOnTheLineAndReportsItsId) {
 
 TEST(GatewayConveyor, CarriesABoxBetweenStationsOfItsBelt) {
   GatewayRig rig;
-  Gateway& c4 = rig.add("conveyor4", "conveyor");
-  const auto id = rig.put_box("conveyor4/denso");
-  rig.run_for(100ms);
+  auto [c4, id] = rig.add_with_box("conveyor4", "conveyor", "conveyor4/denso");
   const Operation op = rig.transport(id, "conveyor4/denso", "conveyor4/download");
   auto estimate = c4.estimate(op);
   ASSERT_TRUE(estimate);
@@ -65,9 +63,7 @@ TEST(GatewayConveyor, CarriesABoxBetweenStationsOfItsBelt) {
 TEST(GatewayConveyor, HandsABoxOverToTheNextBeltThroughTheDiverter) {
   GatewayRig rig;
   Gateway& c1 = rig.add("conveyor1", "conveyor");
-  Gateway& c3 = rig.add("conveyor3", "conveyor");
-  const auto id = rig.put_box("conveyor1/upload");
-  rig.run_for(100ms);
+  auto [c3, id] = rig.add_with_box("conveyor3", "conveyor", "conveyor1/upload");
   // conveyor3 is the second belt conveyor1 feeds: the diverter sends the box there.
   JobOutcome o = rig.run_job(c1, "t1", rig.transport(id, "conveyor1/upload", "conveyor3"));
   ASSERT_TRUE(o.ok) << o.detail;
@@ -107,9 +103,7 @@ TEST(GatewayConveyor, RefusesWhatItsBeltCannotDo) {
 
 TEST(GatewayLegacyRobot, LoadsCandiesThroughItsControllersHandshake) {
   GatewayRig rig;
-  Gateway& toshiba = rig.add("toshiba", "legacy-robot");
-  const auto id = rig.put_box("conveyor3/toshiba");
-  rig.run_for(100ms);
+  auto [toshiba, id] = rig.add_with_box("toshiba", "legacy-robot", "conveyor3/toshiba");
   EXPECT_TRUE(std::get<bool>(tag(toshiba.status(), "robot.box_in_place.toshiba").value));
   const Operation op{
       "load", {{"candy", rig.candy("gummy")}, {"count", 3}, {"box", id}, {"slot", 2}, {"box_type", 0}}};
@@ -155,9 +149,7 @@ TEST(GatewayLegacyRobot, DeclinesCandiesItHasNoDispenserOf) {
 
 TEST(GatewayDownloader, TakesTheBoxOffAndReportsTheInspection) {
   GatewayRig rig;
-  Gateway& down = rig.add("downloader", "downloader");
-  const auto id = rig.put_box("conveyor4/download");
-  rig.run_for(100ms);
+  auto [down, id] = rig.add_with_box("downloader", "downloader", "conveyor4/download");
   const JobOutcome o = rig.run_job(down, "d1", {"download", {{"box", id}}});
   ASSERT_TRUE(o.ok) << o.detail;
   EXPECT_EQ(o.results.at("box"), id);

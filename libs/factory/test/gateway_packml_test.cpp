@@ -49,9 +49,7 @@ TEST(GatewayPackML, StartsStoppedAndRunsJobsOnlyInExecute) {
 
 TEST(GatewayPackML, AHoldLetsTheCandyInHandLandAndTheRestFollowsOnUnhold) {
   GatewayRig rig;
-  Gateway& toshiba = rig.add("toshiba", "legacy-robot");
-  const auto id = rig.put_box("conveyor3/toshiba");
-  rig.run_for(100ms);
+  auto [toshiba, id] = rig.add_with_box("toshiba", "legacy-robot", "conveyor3/toshiba");
   ASSERT_TRUE(toshiba.submit(
       "l1", {"load", {{"candy", rig.candy("gummy")}, {"count", 3}, {"box", id}, {"slot", 0}}}));
   rig.run_for(1s);  // the first candy is on its way
@@ -74,9 +72,7 @@ TEST(GatewayPackML, AHoldLetsTheCandyInHandLandAndTheRestFollowsOnUnhold) {
 
 TEST(GatewayPackML, CancelDropsQueuedJobsAndStopsTheOneInWork) {
   GatewayRig rig;
-  Gateway& c4 = rig.add("conveyor4", "conveyor");
-  const auto id = rig.put_box("conveyor4/denso");
-  rig.run_for(100ms);
+  auto [c4, id] = rig.add_with_box("conveyor4", "conveyor", "conveyor4/denso");
   const Operation op = rig.transport(id, "conveyor4/denso", "conveyor4/download");
   ASSERT_TRUE(c4.submit("t1", op));
   ASSERT_TRUE(c4.submit("t2", op));

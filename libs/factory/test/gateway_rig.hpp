@@ -45,6 +45,19 @@ class GatewayRig {
     return g;
   }
 
+  // A gateway and a box put at `station` for it, after a few polls.
+  struct WithBox {
+    Gateway& gateway;
+    std::uint16_t box;
+  };
+  WithBox add_with_box(const std::string& machine, std::string_view kind, std::string_view station,
+                       const std::string& extra = "start: execute\n") {
+    Gateway& g = add(machine, kind, extra);
+    const std::uint16_t box = put_box(station);
+    run_for(100ms);
+    return {g, box};
+  }
+
   void step() {
     clock_.advance(1ms);
     plant_->advance_to(clock_.now());

@@ -3,6 +3,7 @@
 // ns=<demo>;s=Demo.Bench.<i> that all change every 100 ms.
 //
 //   ours:       smartfactory opcua server --demo-model --bench-variables 1000 --max-sessions N
+//               --max-channels-per-address N
 //   node-opcua: node tests/peers/opcua/node_server.mjs 0 --variables 1000 --max-sessions N
 //
 // Both run as processes of their own, on 127.0.0.1, SecurityPolicy None (ours with `--security
@@ -11,7 +12,8 @@
 // Figures, each as ours, node-opcua, ratio ours / node-opcua:
 //   1. Read: values/s with 1 and with 100 values per ReadRequest (Value attribute, both
 //      timestamps), one session, `--depth` requests outstanding (8), for `--read-seconds` (3)
-//      after a warm-up; with the CPU the server and this process (the client) used meanwhile.
+//      after a warm-up; with the CPU the server and this process (the client) used meanwhile,
+//      and the server's CPU time per request answered.
 //   2. Data changes: one subscription (publishing 100 ms) with 1 000 monitored items (sampling
 //      100 ms, queue 1) on the Bench variables; notifications/s over `--notify-seconds` (5),
 //      the fraction of the 10 000/s the model produces, and the server's CPU.
@@ -22,7 +24,8 @@
 //      largest sample during the data-change run).
 // A readable table on stdout (`--json`: one JSON object), progress on stderr. `--quick` is a
 // short smoke run (1 s of reads, 2 s of data changes, 50 sessions); `--only reads|notify|sessions`
-// runs one phase (for profiling one server: `--smartfactory` may name a wrapper script).
+// runs one phase and `--read-size 1|100` one size of reads (for profiling one server:
+// `--smartfactory` may name a wrapper script, e.g. one that runs it under callgrind).
 //
 //   build/release/bench/bench_opcua_server [--quick] [--json]
 #include <algorithm>
@@ -68,6 +71,7 @@ struct Options : CommonOptions {
   std::size_t sessions = 500;
   std::size_t depth = 8;
   std::size_t read_with_items = 0;  // monitored items on another session during the reads
+  std::size_t read_size = 0;        // 1 or 100: only reads of that many values (0: both)
   double read_seconds = 3;
   double notify_seconds = 5;
 };
@@ -312,7 +316,7 @@ std::string format_value(double v, const std::string& unit) {
   if (unit == "s") {
     return fmt::format("{:.2f}", v);
   }
-  if (unit == "%" || unit == "% core") {
+  if (unit == "%" || unit == "% core" || unit == "us") {
     return fmt::format("{:.1f}", v);
   }
   return fmt::format("{:.0f}", v);
@@ -325,8 +329,9 @@ int run(const Options& o) {
   progress(fmt::format("starting our server ({})", o.where.smartfactory.string()));
   const std::string vars = std::to_string(o.variables);
   const std::string sessions = std::to_string(o.sessions);
-  if (!ours.start(our_server_command(o.where.smartfactory, {"--bench-variables", vars, "--max-sessions",
-                                                            sessions, "--security", "none"}),
+  if (!ours.start(our_server_command(o.where.smartfactory,
+                                     {"--bench-variables", vars, "--max-sessions", sessions,
+                                      "--max-channels-per-address", sessions, "--security", "none"}),
                   o.where.source_dir, o.verbose, 30s)) {
     progress("our server did not start");
     return 1;
@@ -368,10 +373,17 @@ int run(const Options& o) {
       // A warm-up of each size (node's JIT, both servers' buffers), then the measured runs.
       auto& client = c->client->client();
       for (const std::size_t n : {std::size_t{1}, std::size_t{100}}) {
-        (void)measure_reads(server, client, bench_values(c->ns, 0, n), o.depth, 0.5);
+        if (o.read_size == 0 || o.read_size == n) {
+          (void)measure_reads(server, client, bench_values(c->ns, 0, n), o.depth, 0.5);
+        }
       }
-      figures(is_ours).read1 = measure_reads(server, client, bench_values(c->ns, 0, 1), o.depth, read_s);
-      figures(is_ours).read100 = measure_reads(server, client, bench_values(c->ns, 0, 100), o.depth, read_s);
+      if (o.read_size != 100) {
+        figures(is_ours).read1 = measure_reads(server, client, bench_values(c->ns, 0, 1), o.depth, read_s);
+      }
+      if (o.read_size != 1) {
+        figures(is_ours).read100 =
+            measure_reads(server, client, bench_values(c->ns, 0, 100), o.depth, read_s);
+      }
       c->client->disconnect();
       if (other) {
         other->client->disconnect();
@@ -414,12 +426,16 @@ int run(const Options& o) {
        f_node.read1.values_per_s},
       {"read_1_cpu_percent", "  server CPU", "% core", false, f_ours.read1.cpu_percent,
        f_node.read1.cpu_percent},
+      {"read_1_cpu_us_per_request", "  server CPU per request", "us", false, f_ours.read1.cpu_us_per_request,
+       f_node.read1.cpu_us_per_request},
       {"read_1_client_cpu_percent", "  client CPU (this process)", "% core", false,
        f_ours.read1.client_cpu_percent, f_node.read1.client_cpu_percent},
       {"read_100_values_per_s", "Read, 100 values per request", "values/s", true, f_ours.read100.values_per_s,
        f_node.read100.values_per_s},
       {"read_100_cpu_percent", "  server CPU", "% core", false, f_ours.read100.cpu_percent,
        f_node.read100.cpu_percent},
+      {"read_100_cpu_us_per_request", "  server CPU per request", "us", false,
+       f_ours.read100.cpu_us_per_request, f_node.read100.cpu_us_per_request},
       {"read_100_client_cpu_percent", "  client CPU (this process)", "% core", false,
        f_ours.read100.client_cpu_percent, f_node.read100.client_cpu_percent},
       {"notifications_per_s", fmt::format("Data changes, {} items at 100 ms", o.variables), "notif./s", true,
@@ -504,7 +520,7 @@ void usage() {
   std::fprintf(stderr,
                "usage: bench_opcua_server [--quick] [--json] [--verbose] [--sessions N] [--variables N]\n"
                "                          [--depth N] [--read-seconds S] [--notify-seconds S]\n"
-               "                          [--read-with-items N]\n"
+               "                          [--read-with-items N] [--read-size 1|100]\n"
                "                          [--only reads|notify|sessions] [--smartfactory PATH]\n"
                "                          [--source-dir DIR]\n"
                "Our OPC UA server next to node-opcua in the same run (see the top of the source).\n");
@@ -527,6 +543,8 @@ int main(int argc, char** argv) {
       o.notify_seconds = std::stod(value());
     } else if (a == "--read-with-items") {
       o.read_with_items = std::stoul(value());
+    } else if (a == "--read-size") {
+      o.read_size = std::stoul(value());
     } else if (a == "--only") {
       o.only = value();
     } else {
@@ -536,6 +554,10 @@ int main(int argc, char** argv) {
   };
   if (const auto exit_status = parse_options(argc, argv, o, usage, own)) {
     return *exit_status;
+  }
+  if (o.read_size != 0 && o.read_size != 1 && o.read_size != 100) {
+    std::fprintf(stderr, "bench_opcua_server: --read-size is 1 or 100\n");
+    return 2;
   }
   if (o.read_with_items > o.variables) {
     std::fprintf(stderr, "bench_opcua_server: --read-with-items must not exceed --variables\n");

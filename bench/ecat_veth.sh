@@ -6,6 +6,8 @@
 # each next to the wire floor measured in the same run: ecat_echo_peer
 # reflecting frames of the same size over the same veth pair.
 # Usage: bench/ecat_veth.sh BUILD_DIR [SECONDS]
+# Extra options for the master and the segment: ECAT_RUN_ARGS, ECAT_SIM_ARGS
+# (e.g. ECAT_RUN_ARGS="--busy-poll-us 0" to measure a master that sleeps).
 set -euo pipefail
 build="${1:-build/release}"
 secs="${2:-5}"
@@ -31,10 +33,10 @@ printf "%-7s %-6s | %-34s | %-34s | %s\n" "slaves" "rate" "ecat run rtt us min/m
 for n in 1 8 64; do
   for rate in 1000 4000; do
     cycle=$((1000000 / rate))
-    ip netns exec "$nss" "$sf" ecat sim --iface "$ifs" --slaves "${spec[$n]}" >"$work/sim.log" 2>&1 &
+    ip netns exec "$nss" "$sf" ecat sim --iface "$ifs" --slaves "${spec[$n]}" ${ECAT_SIM_ARGS:-} >"$work/sim.log" 2>&1 &
     sim=$!
     sleep 0.5
-    ip netns exec "$nsm" "$sf" ecat run --iface "$ifm" --cycle-us "$cycle" --duration "$secs" --json \
+    ip netns exec "$nsm" "$sf" ecat run --iface "$ifm" --cycle-us "$cycle" --duration "$secs" --json ${ECAT_RUN_ARGS:-} \
       >"$work/run.json" 2>"$work/run.log" || { cat "$work/run.log"; kill $sim; exit 1; }
     kill -TERM $sim; wait $sim || true
     size=$(field "$work/run.json" "['frame_bytes']")
@@ -43,7 +45,7 @@ for n in 1 8 64; do
     ip netns exec "$nsm" "$echo_peer" ping "$ifm" "$size" "$rate" "$secs" >"$work/echo.json"
     kill -TERM $peer; wait $peer || true
     r="['round_trip_us']"; j="['jitter_us']"
-    printf "%-7s %-6s | %7.1f %7.1f %7.1f %8.1f   | %7.1f %7.1f %7.1f %8.1f   | x%.2f; %.1f/%.1f/%.1f (%s frames of %s B, lost %s)\n" \
+    printf "%-7s %-6s | %7.1f %7.1f %7.1f %8.1f   | %7.1f %7.1f %7.1f %8.1f   | x%.2f; %.1f/%.1f/%.1f (%s cycles, %s frame/cycle of %s B, lost %s)\n" \
       "$n" "${rate}Hz" \
       "$(field "$work/run.json" "$r['min']")" "$(field "$work/run.json" "$r['median']")" \
       "$(field "$work/run.json" "$r['p99']")" "$(field "$work/run.json" "$r['max']")" \
@@ -51,17 +53,19 @@ for n in 1 8 64; do
       "$(field "$work/echo.json" "$r['p99']")" "$(field "$work/echo.json" "$r['max']")" \
       "$(python3 -c "print($(field "$work/run.json" "$r['median']") / max($(field "$work/echo.json" "$r['median']"), 0.001))")" \
       "$(field "$work/run.json" "$j['median']")" "$(field "$work/run.json" "$j['p99']")" "$(field "$work/run.json" "$j['max']")" \
-      "$(field "$work/run.json" "['cycles']")" "$size" "$(field "$work/run.json" "['lost_frames']")"
+      "$(field "$work/run.json" "['cycles']")" "$(field "$work/run.json" ".get('frames_per_cycle', '?')")" "$size" \
+      "$(field "$work/run.json" "['lost_frames']")"
   done
 done
 
 echo
 echo "frames per second, back to back (cycle 50 us) vs echo of the same frame size:"
 for n in 1 8 64; do
-  ip netns exec "$nss" "$sf" ecat sim --iface "$ifs" --slaves "${spec[$n]}" >"$work/sim.log" 2>&1 &
+  ip netns exec "$nss" "$sf" ecat sim --iface "$ifs" --slaves "${spec[$n]}" ${ECAT_SIM_ARGS:-} >"$work/sim.log" 2>&1 &
   sim=$!
   sleep 0.5
-  ip netns exec "$nsm" "$sf" ecat run --iface "$ifm" --cycle-us 50 --duration "$secs" --json >"$work/run.json" 2>/dev/null
+  ip netns exec "$nsm" "$sf" ecat run --iface "$ifm" --cycle-us 50 --duration "$secs" --json ${ECAT_RUN_ARGS:-} \
+    >"$work/run.json" 2>/dev/null
   kill -TERM $sim; wait $sim || true
   size=$(field "$work/run.json" "['frame_bytes']")
   ip netns exec "$nss" "$echo_peer" serve "$ifs" & peer=$!

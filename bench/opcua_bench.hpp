@@ -145,6 +145,7 @@ struct ReadResult {
   double values_per_s = 0;
   double cpu_percent = 0;         // the server's, of one core
   double client_cpu_percent = 0;  // this process's (the client's loop thread), of one core
+  double cpu_us_per_request = 0;  // the server's CPU time over every request it answered meanwhile
   std::uint64_t requests = 0;
   std::uint64_t bad = 0;  // failed requests or values with a Bad status
 };
@@ -160,6 +161,7 @@ inline ReadResult measure_reads(const ServerProcess& server, sf::opcua::Client& 
     std::chrono::steady_clock::time_point end;
     std::uint64_t values = 0;
     std::uint64_t requests = 0;
+    std::uint64_t answered = 0;  // also those after the window, while the last ones drain
     std::uint64_t bad = 0;
     std::size_t outstanding = 0;
     std::promise<void> finished;
@@ -172,6 +174,7 @@ inline ReadResult measure_reads(const ServerProcess& server, sf::opcua::Client& 
     ++s->outstanding;
     s->client->read(s->items, [s](sf::Result<std::vector<sf::opcua::DataValue>> values) {
       --s->outstanding;
+      ++s->answered;
       if (std::chrono::steady_clock::now() <= s->end) {
         ++s->requests;
         if (!values) {
@@ -198,7 +201,9 @@ inline ReadResult measure_reads(const ServerProcess& server, sf::opcua::Client& 
   }
   finished.wait();
   ReadResult r;
-  r.cpu_percent = 100.0 * (server.cpu_seconds() - cpu) / seconds_since(start);
+  const double server_cpu = server.cpu_seconds() - cpu;
+  r.cpu_percent = 100.0 * server_cpu / seconds_since(start);
+  r.cpu_us_per_request = state->answered > 0 ? 1e6 * server_cpu / static_cast<double>(state->answered) : 0;
   r.client_cpu_percent = 100.0 * (cpu_seconds_of(::getpid()) - client_cpu) / seconds_since(start);
   r.values_per_s = static_cast<double>(state->values) / seconds;
   r.requests = state->requests;

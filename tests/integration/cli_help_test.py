@@ -33,6 +33,10 @@ for group in listed:
     for sub in subs:
         sub_help = run([binary(), group, sub, "--help"]).stdout
         check(explains_options(sub_help), f"'{group} {sub} --help' explains its options")
+        # One level deeper (e.g. `ecat sdo list|read|write`).
+        for leaf in subcommands(sub_help):
+            leaf_help = run([binary(), group, sub, leaf, "--help"]).stdout
+            check(explains_options(leaf_help), f"'{group} {sub} {leaf} --help' explains its options")
 version = run([binary(), "--version"]).stdout
 check(re.match(r"smartfactory \d+\.\d+\.\d+", version) is not None, f"--version prints the version: {version.strip()}")
 bad = run([binary(), "--log-level", "loud"], check_rc=False)

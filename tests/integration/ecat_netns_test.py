@@ -1,7 +1,9 @@
 """EtherCAT end to end through the CLI over a real wire: `ecat sim` serves an
 emulated segment on one end of a veth pair in its own network namespace;
-`ecat scan` and `ecat run` drive it from the other namespace. The slave side
-records every frame to a pcap file that tshark must decode cleanly.
+`ecat scan`, `ecat sdo` and `ecat run` drive it from the other namespace. The
+slave side records every frame to a pcap file that tshark must decode
+cleanly, SDO aborts (CoE service 2) with their codes and the SDO Information
+service with its object names.
 """
 import json
 import os
@@ -47,6 +49,30 @@ with VethPair("sfe") as wire:
         check(slaves[0]["output_bits"] == 8 * 48 + 32 and slaves[0]["input_bits"] == 8 * 80 + 32,
               "smart controller PDO sizes: 8 CiA 402 axes + 32 DO / 32 DI")
 
+        # ---- SDO tools -----------------------------------------------------
+        sdo = [binary(), "ecat", "sdo"]
+        listing = run_json(sdo + ["list", "--iface", wire.if_a, "--slave", "0", "--values", "--json"],
+                           ns=wire.ns_a, timeout=180)
+        objects = {o["index"]: o for o in listing[0]["objects"]}
+        check(0x1018 in objects and objects[0x1018]["object_code"] == "RECORD"
+              and objects[0x1018]["name"] == "Identity", "sdo list: 0x1018 Identity, a RECORD")
+        vendor = next(e for e in objects[0x1018]["entries"] if e["subindex"] == 1)
+        check(vendor["data_type"] == "UNSIGNED32" and vendor["value"].split()[0] == str(slaves[0]["vendor_id"]),
+              f"sdo list: 0x1018:01 is the vendor id the SII has ({vendor})")
+        check(all(0x6040 + 0x800 * a in objects for a in range(8)), "sdo list: the 8 axes' controlwords")
+        read = run_json(sdo + ["read", "--iface", wire.if_a, "--slave", "0", "0x1018", "2", "--json"], ns=wire.ns_a)
+        check(read["value"].split()[0] == str(slaves[0]["product_code"]), f"sdo read 0x1018:02: {read}")
+        missing = run(sdo + ["read", "--iface", wire.if_a, "--slave", "0", "0x5555"], ns=wire.ns_a, check_rc=False)
+        check(missing.returncode == 1 and "0x06020000" in missing.stderr and "does not exist" in missing.stderr,
+              f"sdo read of a missing object: the abort with code and text, exit 1 ({missing.stderr.strip()})")
+        refused = run(sdo + ["write", "--iface", wire.if_a, "--slave", "0", "0x1018", "1", "5"], ns=wire.ns_a,
+                      check_rc=False)
+        check(refused.returncode == 1 and "0x06010002" in refused.stderr and "read-only" in refused.stderr,
+              f"sdo write to a read-only entry: the abort, exit 1 ({refused.stderr.strip()})")
+        run(sdo + ["write", "--iface", wire.if_a, "--slave", "6", "0x6065", "0", "12345"], ns=wire.ns_a)
+        back = run_json(sdo + ["read", "--iface", wire.if_a, "--slave", "6", "0x6065", "--json"], ns=wire.ns_a)
+        check(back["value"].split()[0] == "12345", f"sdo write then read of the servo's following error window: {back}")
+
         # ---- run ---------------------------------------------------------
         result = run_json([binary(), "ecat", "run", "--iface", wire.if_a, "--cycle-us", "1000",
                            "--duration", "3", "--json"], ns=wire.ns_a, timeout=180)
@@ -59,8 +85,14 @@ with VethPair("sfe") as wire:
         rtt = result["round_trip_us"]
         check(0 < rtt["min"] <= rtt["median"] <= rtt["p99"] <= rtt["max"], f"round-trip statistics are ordered: {rtt}")
         check("jitter_us" in result and result["jitter_us"]["max"] >= 0, "cycle jitter is reported")
+        check(result.get("final_state") == "INIT" and result.get("problems") == [],
+              f"the run ended cleanly in INIT: {result.get('final_state')} {result.get('problems')}")
+        check(len(result["axes"]) == 17 and all(a["state"] != "fault" for a in result["axes"]),
+              "17 axes (2 x 8 + 1 servo), none in fault")
+        check(all(a["state"] == "switch on disabled" for a in result["axes"]),
+              f"every axis was disabled before the segment left OP: {[a['state'] for a in result['axes']]}")
         # The master has stopped; give the slaves' process-data watchdogs
-        # (100 ms) time to notice while the segment keeps running.
+        # (100 ms) time to trip if the segment had been left in OP.
         time.sleep(0.5)
     finally:
         sim.stop()
@@ -77,10 +109,11 @@ with VethPair("sfe") as wire:
         check(dev["last_inputs"] != "" and int(dev["last_inputs"].replace(" ", ""), 16) != 0,
               f"slave {pos}: the device offered non-zero inputs")
         check(dev["last_inputs"] == s["inputs"], f"slave {pos}: the device's inputs came back to the master ({dev['last_inputs'][:24]} vs {s['inputs'][:24]})")
-    # The master stopped: every slave's process-data watchdog must have tripped.
+    # The master took the segment to INIT on exit: no watchdog tripped.
     for pos, dev in enumerate(devices):
-        check(dev["al_state"] == "SAFEOP + ERROR" and dev["al_status_code"] == 0x001B,
-              f"slave {pos}: watchdog tripped after the master stopped ({dev['al_state']}, {dev['al_status_code']:#06x})")
+        check(dev["al_state"] == "INIT" and dev["al_status_code"] == 0 and dev["watchdog_expirations"] == 0,
+              f"slave {pos}: left in INIT without a watchdog trip ({dev['al_state']}, {dev['al_status_code']:#06x}, "
+              f"{dev['watchdog_expirations']} expirations)")
         check(dev["outputs_safe"], f"slave {pos}: outputs are in their safe state")
 
 # ---- the capture decodes in tshark ---------------------------------------
@@ -102,6 +135,22 @@ print(f"datagram commands in the capture: {sorted(seen)}")
 # and drift compensation (ARMW/FRMW), process data (LRW)
 for cmd in ("BRD", "BWR", "APWR", "FPRD", "FPWR", "LRW", "FRMW"):
     check(cmd in seen, f"the capture holds {cmd} datagrams")
+
+
+def field_values(field):
+    out = set()
+    for line in run(["tshark", "-r", pcap, "-T", "fields", "-e", field]).stdout.splitlines():
+        out.update(v.strip() for v in line.split(",") if v.strip())
+    return out
+
+
+# SDO aborts travel as CoE service 2 (ETG.1000.6 §5.6.2.7.1): tshark shows their codes.
+aborts = {int(v, 0) for v in field_values("ecat_mailbox.coe.abortcode")}
+check({0x06020000, 0x06010002} <= aborts, f"tshark decodes the slaves' aborts with their codes: {sorted(map(hex, aborts))}")
+opcodes = {int(v, 0) for v in field_values("ecat_mailbox.coe.sdoinfoopcode")}
+check({1, 2, 3, 4, 5, 6} <= opcodes, f"tshark decodes SDO Information requests and responses: {sorted(opcodes)}")
+names = field_values("ecat_mailbox.coe.sdoinfoname")
+check({"Identity", "Vendor ID", "Device name"} <= names, f"tshark reads object and entry names: {sorted(names)[:12]}")
 count = len(run(["tshark", "-r", pcap, "-T", "fields", "-e", "frame.number"]).stdout.split())
 check(count > 2000, f"the capture holds the whole run ({count} frames)")
 shutil.rmtree(work, ignore_errors=True)

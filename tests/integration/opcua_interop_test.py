@@ -26,6 +26,9 @@ def start_our_server(tmp):
                         log=os.path.join(tmp, "server.log"))
     url = wait_for_line(server, "listening on ", 20).split()[-1]
     check(url.startswith("opc.tcp://127.0.0.1:"), f"our server listens on {url}")
+    banner = next((line for line in server.output().splitlines() if "security:" in line), "")
+    check("None" in banner and "Basic256Sha256" not in banner,
+          f"the banner names no policies where no endpoint signs: {banner}")
     return server, url
 
 

@@ -10,7 +10,8 @@
    until `opcua pki trust`, then every policy × mode works anonymously and with a user name, and
    a wrong password is BadUserAccessDenied.
 3. Our client against our server from a second, untrusted installation (BadSecurityChecksFailed,
-   the hint names rejected/), and with a wrong password.
+   the hint names rejected/), with a wrong password, and with users added to and removed from the
+   users file while the server runs.
 Values are asserted on both sides.
 """
 import json
@@ -114,13 +115,13 @@ def node_client_against_our_server(tmp, users):
         results, _ = node_client(url, node_pki, ["Aes128_Sha256_RsaOaep:SignAndEncrypt:alice"], {"alice": "Wonderland"})
         check(not results[0]["ok"] and "BadUserAccessDenied" in results[0]["error"],
               f"a wrong password is BadUserAccessDenied: {results[0].get('error')}")
-        our_client_against_our_server(tmp, url, ours)
+        our_client_against_our_server(tmp, url, ours, users)
     finally:
         rc = server.stop()
     check(rc == 0, "our server stops cleanly")
 
 
-def our_client_against_our_server(tmp, url, server_pki):
+def our_client_against_our_server(tmp, url, server_pki, users):
     other = os.path.join(tmp, "other-installation")
     sf("pki", "init", "--pki", other)
     shutil.copy(os.path.join(server_pki, "own", "certs", "cert.der"), os.path.join(other, "trusted", "certs"))
@@ -134,6 +135,17 @@ def our_client_against_our_server(tmp, url, server_pki):
     proc = sf("write", url, DEMO + "Demo.Counter", "3", "--pki", server_pki, "--user", "victor",
               "--password-file", os.path.join(tmp, "victor.pw"), "--json", check_rc=False)
     check(proc.returncode != 0 and "BadUserAccessDenied" in proc.stdout, "our client: a viewer cannot write")
+    # The running server re-reads its users file: a user added now logs in, one removed no longer.
+    sf("users", "add", users, "carol", "--role", "operator",
+       "--password-file", write_file(os.path.join(tmp, "carol.pw"), "carol-pass"))
+    sf("users", "remove", users, "victor")
+    proc = sf("write", url, DEMO + "Demo.Counter", "5", "--pki", server_pki, "--user", "carol",
+              "--password-file", os.path.join(tmp, "carol.pw"), check_rc=False)
+    check(proc.returncode == 0, f"a user added while the server runs logs in and writes: {proc.stderr.strip()[-200:]}")
+    proc = sf("read", url, DEMO + "Demo.Counter", "--pki", server_pki, "--user", "victor",
+              "--password-file", os.path.join(tmp, "victor.pw"), check_rc=False)
+    check(proc.returncode != 0 and "BadUserAccessDenied" in proc.stderr,
+          f"a user removed while the server runs is refused: {proc.stderr.strip()[-200:]}")
 
 
 def start_node_server(tmp, pki):

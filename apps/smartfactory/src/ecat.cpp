@@ -1,13 +1,15 @@
-// `smartfactory ecat sim|scan|run`: the EtherCAT module from the command line.
+// `smartfactory ecat sim|scan|run|sdo`: the EtherCAT module from the command line.
 //   sim   serves an emulated segment on an interface (the slaves' side)
 //   scan  lists the slaves of a segment
 //   run   brings the segment to OP and exchanges process data cyclically
+//   sdo   lists, reads and writes a slave's object dictionary (ecat_sdo.cpp)
 // scan and run take --iface IF for a real wire or --sim SPEC for an emulated
 // segment in this process (no root, no NIC needed).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,9 +34,8 @@ using nlohmann::json;
 using namespace std::chrono_literals;
 
 struct SimOptions {
-  std::string iface;
+  LinkChoice link;
   std::string slaves;
-  std::string pcap;
   std::string report;
   double drop_rate = 0.0;
 };
@@ -45,6 +46,7 @@ struct MasterCliOptions {
   unsigned cycle_us = 1000;
   double duration_s = 10.0;
   bool dc = true;
+  std::string final_state = "init";
 };
 
 json slave_report(ecat::slave::Segment& segment, std::size_t position) {
@@ -71,7 +73,7 @@ int run_sim(const SimOptions& o) {
     return kExitUsage;
   }
   set_input_pattern(**segment);
-  auto link = open_link(LinkChoice{o.iface, "", o.pcap}, clock);
+  auto link = open_link(o.link, clock);
   if (!link) {
     std::cerr << "ecat sim: " << link.error().describe() << "\n";
     return kExitFailure;
@@ -193,16 +195,21 @@ int run_scan(const MasterCliOptions& o) {
     return kExitFailure;
   }
   // The PDO mapping of CoE slaves is read through the mailbox: PREOP.
+  int rc_preop = kExitOk;
   if (auto st = master.request_state(ecat::AlState::PreOp); !st) {
     std::cerr << "ecat scan: PREOP: " << st.error().describe() << "\n";
+    rc_preop = kExitFailure;
   }
   Mappings pdo(master.slave_count());
+  int rc = rc_preop;
   for (std::size_t i = 0; i < master.slave_count(); ++i) {
     auto mapping = master.read_pdo_mapping(i);
     if (mapping) {
       pdo[i] = std::move(*mapping);
     } else {
+      // Still listed (as 0/0 bits, PDO source "none"), but the scan failed.
       std::cerr << "ecat scan: slave " << i << ": PDO mapping: " << mapping.error().describe() << "\n";
+      rc = kExitFailure;
     }
   }
   if (o.json) {
@@ -210,7 +217,7 @@ int run_scan(const MasterCliOptions& o) {
   } else {
     print_scan_table(master, pdo);
   }
-  return kExitOk;
+  return rc;
 }
 
 // The device models a segment spec can name, one per line (from the library's table).
@@ -234,13 +241,14 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   auto sim = std::make_shared<SimOptions>();
   auto* sim_cmd = ecat_cmd->add_subcommand(
       "sim", "Emulate a segment of EtherCAT slaves on an interface until signalled (SIGINT/SIGTERM)");
-  sim_cmd->add_option("--iface", sim->iface, "Network interface to answer frames on (e.g. a veth end)")
+  sim_cmd->add_option("--iface", sim->link.iface, "Network interface to answer frames on (e.g. a veth end)")
       ->required();
   sim_cmd
       ->add_option("--slaves", sim->slaves,
                    "Segment, in ring order: KIND[:COUNT],... with KIND one of\n" + kinds_help())
       ->required();
-  sim_cmd->add_option("--pcap", sim->pcap, "Record every frame received and sent to this pcap file");
+  sim_cmd->add_option("--pcap", sim->link.pcap, "Record every frame received and sent to this pcap file");
+  add_busy_poll_option(*sim_cmd, sim->link);
   sim_cmd->add_option("--drop-rate", sim->drop_rate, "Probability (0..1) that a frame is lost in the segment")
       ->check(CLI::Range(0.0, 1.0));
   sim_cmd->add_option("--report", sim->report,
@@ -253,6 +261,8 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   add_link_options(*scan_cmd, scan->link);
   scan_cmd->add_flag("--json", scan->json, "Print JSON instead of a table");
   scan_cmd->callback([scan, &result] { result.exit_code = run_scan(*scan); });
+
+  register_ecat_sdo(*ecat_cmd, result);
 
   auto run = std::make_shared<MasterCliOptions>();
   auto* run_cmd = ecat_cmd->add_subcommand(
@@ -267,8 +277,19 @@ void register_ecat(CLI::App& app, CommandResult& result) {
   run_cmd->add_flag(
       "--no-dc", [run](std::int64_t) { run->dc = false; }, "Do not configure distributed clocks");
   run_cmd->add_flag("--json", run->json, "Print the result as JSON");
+  run_cmd
+      ->add_option("--final-state", run->final_state,
+                   "State to leave the segment in on exit, after disabling the drives (op keeps it running "
+                   "until the slaves' watchdogs trip)")
+      ->check(CLI::IsMember({"init", "preop", "safeop", "op"}, CLI::ignore_case))
+      ->capture_default_str();
   run_cmd->callback([run, &result] {
-    result.exit_code = run_cyclic(RunOptions{run->link, run->json, run->cycle_us, run->duration_s, run->dc});
+    static const std::map<std::string, ecat::AlState> kStates{{"init", ecat::AlState::Init},
+                                                              {"preop", ecat::AlState::PreOp},
+                                                              {"safeop", ecat::AlState::SafeOp},
+                                                              {"op", ecat::AlState::Op}};
+    result.exit_code = run_cyclic(RunOptions{run->link, run->json, run->cycle_us, run->duration_s, run->dc,
+                                             kStates.at(run->final_state)});
   });
 }
 

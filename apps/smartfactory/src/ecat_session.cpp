@@ -1,10 +1,13 @@
 #include "ecat_session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -77,13 +80,25 @@ json slaves_json(ecat::master::Master& master) {
   return out;
 }
 
-// An axis of the demo motion and the cycle it reached operation enabled.
+// An axis of the demo motion, the cycle it reached operation enabled and
+// where it stood then.
 struct MovingAxis {
   ecat::master::Cia402Axis axis;
   std::optional<std::uint64_t> since;
+  std::int32_t origin = 0;
+  bool stopping = false;  // hold and disable (end of the run)
+  bool fault_at_start = false;
+  bool ended_in_fault = false;
 };
 
-// Every CiA 402 axis of every drive in the segment, enabled.
+bool in_fault(const ecat::master::Cia402Axis& axis) {
+  const auto s = axis.state();
+  return s == ecat::master::cia402::State::Fault || s == ecat::master::cia402::State::FaultReactionActive;
+}
+
+// Every CiA 402 axis of every drive in the segment, enabled; a drive that
+// comes up in fault (e.g. left by a master that stopped without disabling
+// it) is reset first (CiA 402 fault reset, controlword bit 7).
 std::vector<MovingAxis> attach_axes(ecat::master::Master& master) {
   std::vector<MovingAxis> axes;
   for (std::size_t i = 0; i < master.slave_count(); ++i) {
@@ -92,11 +107,22 @@ std::vector<MovingAxis> attach_axes(ecat::master::Master& master) {
       if (!axis) {
         break;
       }
+      const bool fault = in_fault(*axis);
+      axis->fault_reset();
       axis->enable();
-      axes.push_back(MovingAxis{std::move(*axis), std::nullopt});
+      axes.push_back(MovingAxis{std::move(*axis), std::nullopt, 0, false, fault, false});
     }
   }
   return axes;
+}
+
+// Axes that no longer hold a torque: switched off or in fault.
+bool all_disabled(const std::vector<MovingAxis>& axes) {
+  return std::all_of(axes.begin(), axes.end(), [](const MovingAxis& m) {
+    const auto s = m.axis.state();
+    return in_fault(m.axis) || s == ecat::master::cia402::State::SwitchOnDisabled ||
+           s == ecat::master::cia402::State::NotReadyToSwitchOn;
+  });
 }
 
 // Each axis, once enabled, swings between its start and +20 000 counts
@@ -106,16 +132,19 @@ void move_axes(std::vector<MovingAxis>& axes, std::uint64_t cycle, std::chrono::
   constexpr double kTwoPi = 6.283185307179586;
   for (std::size_t k = 0; k < axes.size(); ++k) {
     auto& m = axes[k];
-    if (!m.axis.enabled()) {
+    if (!m.axis.enabled() || m.stopping) {
       m.since.reset();
     } else {
       if (!m.since) {
+        // Relative to where the axis stands (a drive keeps its position from
+        // an earlier run): an absolute target would jump by that much.
         m.since = cycle;
+        m.origin = m.axis.actual_position();
       }
       const double t = static_cast<double>(cycle - *m.since) * static_cast<double>(period.count()) * 1e-9;
       const double swing_period = 2.0 + 0.25 * static_cast<double>(k);
       m.axis.set_target_position(
-          static_cast<std::int32_t>(10000.0 * (1.0 - std::cos(kTwoPi * t / swing_period))));
+          m.origin + static_cast<std::int32_t>(10000.0 * (1.0 - std::cos(kTwoPi * t / swing_period))));
     }
     m.axis.update();
   }
@@ -123,12 +152,14 @@ void move_axes(std::vector<MovingAxis>& axes, std::uint64_t cycle, std::chrono::
 
 json axes_json(const std::vector<MovingAxis>& axes) {
   json out = json::array();
-  for (const auto& [axis, since] : axes) {
-    out.push_back({{"slave", axis.slave_position()},
-                   {"axis", axis.axis()},
-                   {"state", std::string{ecat::master::cia402::to_string(axis.state())}},
-                   {"target", axis.target_position()},
-                   {"actual", axis.actual_position()}});
+  for (const auto& m : axes) {
+    out.push_back({{"slave", m.axis.slave_position()},
+                   {"axis", m.axis.axis()},
+                   {"state", std::string{ecat::master::cia402::to_string(m.axis.state())}},
+                   {"fault_at_start", m.fault_at_start},
+                   {"fault", m.ended_in_fault},
+                   {"target", m.axis.target_position()},
+                   {"actual", m.axis.actual_position()}});
   }
   return out;
 }
@@ -150,6 +181,9 @@ void print_text(const ecat::master::Master& master, const json& result) {
 }  // namespace
 
 void add_link_options(CLI::App& command, LinkChoice& link) {
+  // A master waits for its frames by spinning first, as SOEM and KickCAT do:
+  // a sleeping receive adds a thread wake-up to every round trip.
+  link.busy_poll_us = kMasterBusyPollUs;
   auto* iface = command.add_option("--iface", link.iface,
                                    "Network interface of the EtherCAT segment (needs root), or udp:HOST:PORT "
                                    "for EtherCAT in UDP (a plant)");
@@ -160,6 +194,16 @@ void add_link_options(CLI::App& command, LinkChoice& link) {
   sim->excludes(iface);
   command.add_option("--pcap", link.pcap,
                      "Record every frame the master sends and receives to this pcap file");
+  add_busy_poll_option(command, link);
+}
+
+void add_busy_poll_option(CLI::App& command, LinkChoice& link) {
+  command
+      .add_option("--busy-poll-us", link.busy_poll_us,
+                  "With --iface: wait for a frame by spinning on the socket for up to this many microseconds "
+                  "before sleeping: a shorter round trip at the price of a busy core (0 = always sleep)")
+      ->check(CLI::Range(0U, 1'000'000U))
+      ->capture_default_str();
 }
 
 void set_input_pattern(ecat::slave::Segment& segment) {
@@ -174,7 +218,8 @@ void set_input_pattern(ecat::slave::Segment& segment) {
 
 Result<std::unique_ptr<ecat::Link>> open_link(const LinkChoice& choice, const Clock& clock) {
   // An interface name, or udp:HOST:PORT for a segment that speaks EtherCAT in UDP (a plant).
-  auto opened = ecat::open_link(choice.iface);
+  auto opened =
+      ecat::open_link(choice.iface, ecat::RawSocketOptions{std::chrono::microseconds{choice.busy_poll_us}});
   if (!opened) {
     return opened.error();
   }
@@ -234,6 +279,57 @@ EcatSession::~EcatSession() {
   }
 }
 
+namespace {
+
+// The end of a run: the axes are disabled while the cycle still runs (a
+// drive that loses OP while enabled faults), then the cycle stops and the
+// segment goes to `final_state` (as other masters' tools do), so no
+// process-data watchdog trips. Faults seen before the axes were disabled
+// are kept for the report.
+void stop_motion(ecat::master::Master& master, ecat::master::CyclicRunner& runner,
+                 std::vector<MovingAxis>& axes) {
+  {
+    std::lock_guard lock(master.bus().mutex());
+    for (auto& m : axes) {
+      m.ended_in_fault = in_fault(m.axis);
+      m.stopping = true;
+      m.axis.disable();
+    }
+  }
+  auto& clock = master.clock();
+  const auto deadline = clock.now() + std::chrono::milliseconds{500};
+  while (clock.now() < deadline) {
+    {
+      std::lock_guard lock(master.bus().mutex());
+      if (all_disabled(axes)) {
+        break;
+      }
+    }
+    std::this_thread::sleep_for(1ms);
+  }
+  runner.stop();
+  // The cycle callback prepared outputs for a cycle that never ran: send them,
+  // so the image reports exactly what the devices last received.
+  for (int attempt = 0; attempt < 3 && !master.exchange().received; ++attempt) {
+  }
+}
+
+// Why the run failed, one line per problem (empty: it did not).
+std::vector<std::string> run_problems(ecat::master::Master& master, const std::vector<MovingAxis>& axes) {
+  std::vector<std::string> out;
+  for (const auto& m : axes) {
+    if (m.ended_in_fault) {
+      out.push_back(fmt::format("axis {}.{} ended in fault", m.axis.slave_position(), m.axis.axis()));
+    }
+  }
+  for (const auto p : master.lost_slaves()) {
+    out.push_back(fmt::format("slave {} ({}) was lost", p, master.slave_info(p).name()));
+  }
+  return out;
+}
+
+}  // namespace
+
 int run_cyclic(const RunOptions& o) {
   ecat::master::MasterOptions options;
   options.distributed_clocks = o.dc;
@@ -244,9 +340,14 @@ int run_cyclic(const RunOptions& o) {
   }
   auto& master = (*session)->master();
   auto& clock = master.clock();
+  // From here on Ctrl-C ends the run the orderly way, even during bring-up.
+  install_stop_signals();
   std::fprintf(stderr, "ecat run: scanning, configuring and bringing the segment to OP...\n");
   if (auto st = master.bring_up(ecat::AlState::Op); !st) {
     std::cerr << "ecat run: " << st.error().describe() << "\n";
+    if (master.slave_count() > 0) {
+      (void)master.request_state(o.final_state);
+    }
     return kExitFailure;
   }
   const auto period = std::chrono::microseconds{o.cycle_us};
@@ -266,7 +367,6 @@ int run_cyclic(const RunOptions& o) {
   std::fprintf(stderr, "ecat run: %zu slaves in OP, %zu CiA 402 axes; %u us cycle for %.1f s%s\n",
                master.slave_count(), axes.size(), o.cycle_us, o.duration_s,
                runner.realtime_active() ? " (SCHED_FIFO)" : "");
-  install_stop_signals();
   const auto end = clock.now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
                                      std::chrono::duration<double>{o.duration_s});
   while (clock.now() < end && !stop_requested()) {
@@ -275,11 +375,7 @@ int run_cyclic(const RunOptions& o) {
       std::fprintf(stderr, "ecat run: %s\n", runner.statistics().summary().c_str());
     }
   }
-  runner.stop();
-  // The cycle callback prepared outputs for a cycle that never ran: send them,
-  // so the image reports exactly what the devices last received.
-  for (int attempt = 0; attempt < 3 && !master.exchange().received; ++attempt) {
-  }
+  stop_motion(master, runner, axes);
   const auto& stats = master.statistics();
   json result{{"cycles", stats.cycles},
               {"lost_frames", stats.lost_frames},
@@ -289,15 +385,26 @@ int run_cyclic(const RunOptions& o) {
               {"jitter_us", histogram_json(stats.jitter)},
               {"realtime", runner.realtime_active()},
               {"frame_bytes", total_frame_bytes(master)},
+              {"frames_per_cycle", master.cyclic_frame_sizes().size()},
               {"lost_slaves", master.lost_slaves()}};
   result["slaves"] = slaves_json(master);
   result["axes"] = axes_json(axes);
+  auto problems = run_problems(master, axes);
+  if (auto down = master.request_state(o.final_state); !down) {
+    problems.push_back(
+        fmt::format("taking the segment to {}: {}", to_string(o.final_state), down.error().describe()));
+  }
+  result["final_state"] = std::string{to_string(o.final_state)};
+  result["problems"] = problems;
   if (o.json) {
     std::cout << result.dump(2) << "\n";
   } else {
     print_text(master, result);
   }
-  return kExitOk;
+  for (const auto& p : problems) {
+    std::fprintf(stderr, "ecat run: %s\n", p.c_str());
+  }
+  return problems.empty() ? kExitOk : kExitFailure;
 }
 
 }  // namespace sf::app

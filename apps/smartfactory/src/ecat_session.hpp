@@ -16,14 +16,20 @@
 
 namespace sf::app {
 
+struct CommandResult;
+
 struct LinkChoice {
-  std::string iface;  // raw socket on this interface
-  std::string sim;    // or an emulated segment in-process, e.g. "servo:2"
-  std::string pcap;   // optional capture of every frame
+  std::string iface;          // raw socket on this interface
+  std::string sim;            // or an emulated segment in-process, e.g. "servo:2"
+  std::string pcap;           // optional capture of every frame
+  unsigned busy_poll_us = 0;  // raw socket: spin this long for a frame before sleeping
 };
 
-// --iface / --sim (one of them) and --pcap.
+// --iface / --sim (one of them), --pcap and --busy-poll-us (default
+// kMasterBusyPollUs: the master tools spin; `ecat sim` sleeps by default).
+inline constexpr unsigned kMasterBusyPollUs = 200;
 void add_link_options(CLI::App& command, LinkChoice& link);
+void add_busy_poll_option(CLI::App& command, LinkChoice& link);
 
 // Digital inputs of an emulated segment show a fixed pattern so a master
 // sees data arrive: 0xA0 + position (8-bit), 0x5A5A0000 + position (32-bit).
@@ -60,10 +66,16 @@ struct RunOptions {
   unsigned cycle_us = 1000;
   double duration_s = 10.0;
   bool dc = true;
+  ethercat::AlState final_state = ethercat::AlState::Init;
 };
 
-// Brings the segment to OP, runs the cycle for the duration (or until
-// SIGINT/SIGTERM), prints statistics; returns the process exit code.
+// `ecat sdo list|read|write` (ecat_sdo.cpp).
+void register_ecat_sdo(CLI::App& ecat_cmd, CommandResult& result);
+
+// Brings the segment to OP (resetting drive faults), runs the cycle for the
+// duration (or until SIGINT/SIGTERM), disables the axes, takes the segment
+// to options.final_state, prints statistics. Exit code 1 when an axis ended
+// in fault or a slave was lost, or bring-up failed.
 int run_cyclic(const RunOptions& options);
 
 }  // namespace sf::app

@@ -45,6 +45,7 @@ struct ServerOptions {
   std::size_t bench_variables = 0;
   std::vector<std::string> nodesets;
   std::size_t max_sessions = 100;
+  std::size_t max_channels_per_address = ua::ServerTransportConfig{}.max_channels_per_address;
   std::size_t max_subscriptions = 1000;
   std::size_t max_monitored_items = 100'000;
   double duration_s = 0;
@@ -60,6 +61,7 @@ int run_server(const ServerOptions& o) {
   config.sessions.max_sessions = o.max_sessions;
   // Each session needs its own secure channel.
   config.transport.max_channels = std::max(config.transport.max_channels, o.max_sessions);
+  config.transport.max_channels_per_address = o.max_channels_per_address;
   config.subscriptions.max_subscriptions = o.max_subscriptions;
   config.subscriptions.max_monitored_items = o.max_monitored_items;
   auto security = apply_server_security(o.security, o.demo_model, config);
@@ -500,6 +502,11 @@ void register_opcua(CLI::App& app, CommandResult& result) {
   server_cmd
       ->add_option("--max-sessions", server->max_sessions,
                    "Sessions the server holds at most (and secure channels, at least 100)")
+      ->capture_default_str();
+  server_cmd
+      ->add_option("--max-channels-per-address", server->max_channels_per_address,
+                   "Secure channels one client address may hold (0 = no limit of its own); idle ones give "
+                   "way to new connections")
       ->capture_default_str();
   server_cmd->add_option("--max-subscriptions", server->max_subscriptions, "Subscriptions over all sessions")
       ->capture_default_str();

@@ -150,6 +150,10 @@ Status check_robot(const Layout& layout, const RobotSpec& r) {
   for (const auto& ref : r.stations) {
     SF_TRY(check_robot_station(layout, r, ref));
   }
+  if (r.home && !r.reaches(*r.home)) {
+    return at(r.where, fmt::format("home ({:.3f}, {:.3f}, {:.3f}) is out of the robot's reach", r.home->x,
+                                   r.home->y, r.home->z));
+  }
   for (const auto& name : r.dispensers) {
     const DispenserSpec* d = layout.dispenser(name);
     if (d == nullptr) {

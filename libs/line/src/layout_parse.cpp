@@ -243,7 +243,7 @@ Status parse_arm(const Node& n, RobotSpec& r) {
 
 Status parse_robot(const Node& n, RobotSpec& r) {
   SF_TRY(n.only_keys({"name", "label", "kind", "vendor", "model", "base", "links_m", "z_stroke_m",
-                      "tool_speed_mps", "controller", "stations", "dispensers", "capabilities"}));
+                      "tool_speed_mps", "controller", "stations", "dispensers", "capabilities", "home"}));
   SF_TRY(read_name(n, r));
   auto kind = robot_kind(n);
   if (!kind) {
@@ -269,6 +269,11 @@ Status parse_robot(const Node& n, RobotSpec& r) {
   }
   SF_TRY(n.read("stations", r.stations));
   SF_TRY(n.read("capabilities", r.capabilities));
+  if (n.has("home")) {
+    Vec3 home;
+    SF_TRY(read_vec3(n, "home", home));
+    r.home = home;
+  }
   return n.read("dispensers", r.dispensers);
 }
 

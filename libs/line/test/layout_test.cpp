@@ -95,6 +95,11 @@ TEST(LayoutTest, ADispenserOutOfReachIsRefused) {
   EXPECT_NE(error.find("dispenser 'scara1-chocolate'"), std::string::npos) << error;
 }
 
+TEST(LayoutTest, AHomeOutOfReachIsRefused) {
+  const std::string error = refused(replace(kDefault, "home: [3.9, 0.35, 0.95]", "home: [5.9, 0.35, 0.95]"));
+  EXPECT_NE(error.find("home (5.900, 0.350, 0.950) is out of the robot's reach"), std::string::npos) << error;
+}
+
 TEST(LayoutTest, OutOfRangeValuesAreRefused) {
   EXPECT_NE(refused(replace(kDefault, "speed_mps: 0.5\n    max_speed_mps: 0.8",
                             "speed_mps: 0.9\n    max_speed_mps: 0.8"))

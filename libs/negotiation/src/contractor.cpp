@@ -100,6 +100,11 @@ void Contractor::on_announce(const Announce& a) {
   offer.product = a.product;
   offer.round = a.round;
   offer.forget_at = clock_->now() + config_.bid_memory;
+  offer.params = a.params;
+  if (config_.backend != nullptr && jobs_.size() < config_.capacity) {
+    bid_from_backend(a, offer);
+    return;
+  }
   if (jobs_.size() >= config_.capacity) {
     offer.bid = false;
     ++stats_.declines;
@@ -111,6 +116,31 @@ void Contractor::on_announce(const Announce& a) {
   const Bid bid{to_utc(start), to_utc(start + duration),
                 std::chrono::duration<double>(duration).count() * s->cost_rate,
                 static_cast<std::uint32_t>(jobs_.size())};
+  if (!send(a.conversation, a.operation, a.round, bid)) {
+    return;
+  }
+  offer.bid = true;
+  ++stats_.bids;
+  if (events_.on_bid) {
+    events_.on_bid(a);
+  }
+}
+
+void Contractor::bid_from_backend(const Announce& a, Offer& offer) {
+  std::string why_not;
+  const auto estimate = config_.backend->estimate(a.operation, a.params, why_not);
+  if (!estimate) {
+    offer.bid = false;
+    ++stats_.declines;
+    (void)send(a.conversation, a.operation, a.round,
+               Refuse{0, why_not.empty() ? "cannot do it now" : why_not});
+    return;
+  }
+  const auto start = clock_->now() + estimate->start_in;
+  const Skill* s = skill(a.operation);
+  const Bid bid{to_utc(start), to_utc(start + estimate->duration),
+                std::chrono::duration<double>(estimate->duration).count() * s->cost_rate,
+                estimate->queue_length};
   if (!send(a.conversation, a.operation, a.round, bid)) {
     return;
   }
@@ -178,8 +208,44 @@ void Contractor::accept(const ManagerMessage& m, std::uint32_t award_id, const S
     events_.on_confirmed(jobs_.back());
   }
   const auto now = clock_->now();
+  if (config_.backend != nullptr) {
+    // The backend queues and times the work itself; it reports the end.
+    jobs_.back().started_at = now;
+    auto it = offers_.find(m.conversation);
+    const auto& params = it != offers_.end() ? it->second.params : std::vector<Param>{};
+    if (auto started = config_.backend->start(jobs_.back(), params); !started) {
+      end_job(std::prev(jobs_.end()), false, started.error().message);
+    }
+    return;
+  }
   start_head(now);
   finish_due(now);  // work that takes no time is done at once
+}
+
+Status Contractor::report(const std::string& conversation, bool ok, const std::string& detail) {
+  auto it =
+      std::find_if(jobs_.begin(), jobs_.end(), [&](const Job& j) { return j.conversation == conversation; });
+  if (it == jobs_.end()) {
+    return make_error(Errc::not_found,
+                      fmt::format("{} has no job in conversation {}", config_.name, conversation));
+  }
+  end_job(it, ok, detail);
+  return {};
+}
+
+void Contractor::end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail) {
+  const Job job = *it;
+  jobs_.erase(it);
+  if (ok) {
+    ++stats_.done;
+    (void)send(job.conversation, job.operation, job.round, InformDone{job.award_id, detail});
+  } else {
+    ++stats_.failures;
+    (void)send(job.conversation, job.operation, job.round, Failure{job.award_id, detail});
+  }
+  if (events_.on_work_finished) {
+    events_.on_work_finished(job, ok);
+  }
 }
 
 void Contractor::refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason) {
@@ -210,6 +276,9 @@ void Contractor::drop_job(const std::string& conversation, const std::string& wh
   jobs_.erase(it);
   ++stats_.aborted;
   log_->info("{} drops {} (award {}): {}", config_.name, conversation, job.award_id, why);
+  if (config_.backend != nullptr) {
+    config_.backend->abort(job, why);
+  }
   if (events_.on_work_aborted) {
     events_.on_work_aborted(job, why);
   }
@@ -248,6 +317,9 @@ void Contractor::finish_head() {
 }
 
 void Contractor::finish_due(Clock::time_point now) {
+  if (config_.backend != nullptr) {
+    return;  // the backend reports its jobs' ends
+  }
   while (!jobs_.empty() && jobs_.front().started_at &&
          *jobs_.front().started_at + jobs_.front().duration <= now) {
     finish_head();
@@ -270,7 +342,7 @@ void Contractor::tick() {
 }
 
 std::optional<Clock::time_point> Contractor::next_deadline() const {
-  if (jobs_.empty() || !jobs_.front().started_at) {
+  if (config_.backend != nullptr || jobs_.empty() || !jobs_.front().started_at) {
     return std::nullopt;
   }
   return *jobs_.front().started_at + jobs_.front().duration;

@@ -272,5 +272,103 @@ TEST_F(ContractorTest, ForgetsOldBids) {
   EXPECT_EQ(std::get<Refuse>(transport.sent.back().body).reason, "no bid in this conversation");
 }
 
+// A shop-floor controller behind the contractor (WorkBackend): what it answers and does is
+// recorded here; the contractor's side of the protocol is what is checked.
+class RecordingBackend final : public WorkBackend {
+ public:
+  std::optional<WorkEstimate> estimate(const std::string& operation, const std::vector<Param>& params,
+                                       std::string& why_not) override {
+    asked.push_back(operation);
+    last_params = params;
+    if (!willing) {
+      why_not = "held by the operator";
+      return std::nullopt;
+    }
+    return WorkEstimate{200ms, 1500ms, 3};
+  }
+  Status start(const Job& job, const std::vector<Param>& params) override {
+    started.push_back(job.conversation);
+    start_params = params;
+    if (fail_start) {
+      return make_error(Errc::state, "no box at the station");
+    }
+    return {};
+  }
+  void abort(const Job& job, const std::string& why) override { aborted.emplace_back(job.conversation, why); }
+
+  bool willing = true;
+  bool fail_start = false;
+  std::vector<std::string> asked, started;
+  std::vector<std::pair<std::string, std::string>> aborted;
+  std::vector<Param> last_params, start_params;
+};
+
+TEST_F(ContractorTest, ABackendsEstimateIsTheBidAndItsRefusalADecline) {
+  RecordingBackend backend;
+  ContractorConfig cfg{"M1", {{"OP1", 100ms, 2.0}}};
+  cfg.backend = &backend;
+  auto c = make(cfg);
+  auto a = announce("a");
+  a.params = {{"candy", 2}, {"count", 3}};
+  c.on_announce(a);
+  ASSERT_EQ(transport.sent.size(), 1U);
+  const auto& bid = std::get<Bid>(transport.sent[0].body);
+  EXPECT_EQ(bid.estimated_start, clock.utc_now() + 200ms);
+  EXPECT_EQ(bid.estimated_finish, clock.utc_now() + 1700ms);
+  EXPECT_DOUBLE_EQ(bid.cost, 1.5 * 2.0);
+  EXPECT_EQ(bid.queue_length, 3U);
+  EXPECT_EQ(backend.last_params, a.params);
+  backend.willing = false;
+  c.on_announce(announce("b"));
+  ASSERT_EQ(transport.sent.size(), 2U);
+  EXPECT_EQ(std::get<Refuse>(transport.sent[1].body).reason, "held by the operator");
+  EXPECT_EQ(c.stats().declines, 1U);
+}
+
+TEST_F(ContractorTest, ABackendGetsTheConfirmedJobAndItsReportEndsIt) {
+  RecordingBackend backend;
+  ContractorConfig cfg{"M1", {{"OP1", 100ms, 1.0}}};
+  cfg.backend = &backend;
+  auto c = make(cfg);
+  auto a = announce("a");
+  a.params = {{"box", 7}};
+  c.on_announce(a);
+  c.on_manager_message(award("a", 1));
+  EXPECT_EQ(backend.started, std::vector<std::string>{"a"});
+  EXPECT_EQ(backend.start_params, a.params);
+  clock.advance(10s);
+  c.tick();  // time alone ends nothing: the backend reports
+  EXPECT_TRUE(transport.of_kind<InformDone>().empty());
+  EXPECT_EQ(c.next_deadline(), std::nullopt);
+  ASSERT_TRUE(c.report("a", true, "3 toffee in slots 4-6"));
+  ASSERT_EQ(transport.of_kind<InformDone>().size(), 1U);
+  EXPECT_EQ(std::get<InformDone>(transport.sent.back().body).result, "3 toffee in slots 4-6");
+  EXPECT_EQ(finished, (std::vector<std::pair<std::string, bool>>{{"a", true}}));
+  EXPECT_FALSE(c.report("a", true, "again"));  // no such job any more
+}
+
+TEST_F(ContractorTest, ABackendsFailedStartOrReportIsAFailureAndACancelAbortsIt) {
+  RecordingBackend backend;
+  ContractorConfig cfg{"M1", {{"OP1", 100ms, 1.0}}};
+  cfg.backend = &backend;
+  auto c = make(cfg);
+  backend.fail_start = true;
+  c.on_announce(announce("a"));
+  c.on_manager_message(award("a", 1));
+  ASSERT_EQ(transport.of_kind<Failure>().size(), 1U);
+  EXPECT_EQ(std::get<Failure>(transport.sent.back().body).reason, "no box at the station");
+  backend.fail_start = false;
+  c.on_announce(announce("b"));
+  c.on_manager_message(award("b", 1));
+  ASSERT_TRUE(c.report("b", false, "dispenser empty"));
+  EXPECT_EQ(std::get<Failure>(transport.sent.back().body).reason, "dispenser empty");
+  c.on_announce(announce("c"));
+  c.on_manager_message(award("c", 1));
+  c.on_manager_message(cancel("c", 1));
+  ASSERT_EQ(backend.aborted.size(), 1U);
+  EXPECT_EQ(backend.aborted[0].first, "c");
+  EXPECT_TRUE(c.jobs().empty());
+}
+
 }  // namespace
 }  // namespace sf::negotiation

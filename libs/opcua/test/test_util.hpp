@@ -1,6 +1,7 @@
 // Helpers shared by the opcua tests.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -9,6 +10,7 @@
 #include "sf/core/bytes.hpp"
 #include "sf/opcua/binary.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "sf/opcua/transport/tcp_messages.hpp"
 
 namespace sf::opcua::test {
 
@@ -45,6 +47,16 @@ Error decode_error(const Bytes& bytes, const DecodeOptions& options = {}) {
   auto decoded = decode<T>(bytes, options);
   EXPECT_FALSE(decoded.ok()) << "decoding unexpectedly succeeded";
   return decoded.ok() ? Error{} : decoded.error();
+}
+
+// The status of the ERR message bytes start with (OPC 10000-6 §7.1.2.5); nullopt for anything else.
+inline std::optional<StatusCode> error_status(ByteSpan bytes) {
+  auto header = decode_header(bytes);
+  if (!header || header->type != MessageType::Error || bytes.size() < 8) {
+    return std::nullopt;
+  }
+  auto err = decode_error_body(bytes.subspan(8));
+  return err ? std::optional<StatusCode>(err->error) : std::nullopt;
 }
 
 inline std::string status_name(const Error& e) {

@@ -332,7 +332,16 @@ Result<Bytes> make_sdo_request(const SdoRequest& request, std::uint8_t counter, 
 }
 
 Result<Bytes> make_sdo_response(const SdoResponse& response, std::uint8_t counter, std::uint16_t address) {
-  return wrap_sdo(encode_sdo_response(response), CoeService::SdoResponse, counter, address);
+  // Abort SDO Transfer is an SDO request whichever side sends it (ETG.1000.6
+  // §5.6.2.7.1, CoE service 2): masters and Wireshark look for it there.
+  const auto service =
+      std::holds_alternative<SdoAbort>(response) ? CoeService::SdoRequest : CoeService::SdoResponse;
+  return wrap_sdo(encode_sdo_response(response), service, counter, address);
+}
+
+Error sdo_abort_error(const SdoAbort& abort, std::string_view context, Errc errc) {
+  return Error{errc, fmt::format("{}: {}", context, describe(abort)),
+               ProtocolCode{kSdoAbortTable, abort.code}};
 }
 
 std::string describe(const SdoAbort& abort) {

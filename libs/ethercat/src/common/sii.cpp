@@ -93,13 +93,18 @@ void put_fixed_area(ByteWriter& w, const SiiInfo& info) {
 }
 
 Bytes general_bytes(const SiiGeneral& g, StringTable& strings) {
+  // The name takes the first free string: masters that do not follow NameIdx
+  // (SOEM, KickCAT) show string 1 as the slave's name (ETG.2010 §2.3 Table 5).
+  const std::uint8_t name = strings.index(g.name);
+  const std::uint8_t order = strings.index(g.order);
+  const std::uint8_t group = strings.index(g.group);
+  const std::uint8_t image = strings.index(g.image);
   Bytes out;
   ByteWriter w(out);
-  const std::uint8_t group = strings.index(g.group);
   w.u8(group);
-  w.u8(strings.index(g.image));
-  w.u8(strings.index(g.order));
-  w.u8(strings.index(g.name));
+  w.u8(image);
+  w.u8(order);
+  w.u8(name);
   w.u8(0);  // reserved
   w.u8(g.coe_details);
   w.u8(g.foe_details);

@@ -10,8 +10,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -65,7 +67,8 @@ timespec to_timespec(std::chrono::nanoseconds d) {
 
 }  // namespace
 
-Result<std::unique_ptr<RawSocketLink>> RawSocketLink::open(const std::string& interface) {
+Result<std::unique_ptr<RawSocketLink>> RawSocketLink::open(const std::string& interface,
+                                                           RawSocketOptions options) {
   if (interface.empty() || interface.size() >= IFNAMSIZ) {
     return make_error(Errc::invalid_argument, fmt::format("invalid interface name '{}'", interface));
   }
@@ -96,8 +99,13 @@ Result<std::unique_ptr<RawSocketLink>> RawSocketLink::open(const std::string& in
   if (!mac) {
     return mac.error();
   }
+  // Best effort, packet(7): our own transmissions are not looped back to us
+  // (else every send costs a second receive to skip it). Older kernels lack
+  // it; the outgoing copies are then skipped in receive().
+  const int one = 1;
+  (void)::setsockopt(fd.get(), SOL_PACKET, PACKET_IGNORE_OUTGOING, &one, sizeof one);
   return std::unique_ptr<RawSocketLink>(
-      new RawSocketLink(fd.release(), static_cast<int>(index), interface, *mac));
+      new RawSocketLink(fd.release(), static_cast<int>(index), interface, *mac, options));
 }
 
 RawSocketLink::~RawSocketLink() {
@@ -127,8 +135,44 @@ Status RawSocketLink::send(ByteSpan frame) {
   }
 }
 
+Result<std::optional<std::size_t>> RawSocketLink::read_frame(MutableByteSpan buf) {
+  sockaddr_ll from{};
+  socklen_t from_len = sizeof from;
+  const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), MSG_TRUNC | MSG_DONTWAIT,
+                               reinterpret_cast<sockaddr*>(&from), &from_len);  // NOLINT
+  if (n < 0) {
+    if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
+      return std::optional<std::size_t>{};
+    }
+    return os_error("recvfrom", interface_, errno);
+  }
+  // Our own transmissions, where the kernel still loops them back: skip.
+  if (from.sll_pkttype == PACKET_OUTGOING) {
+    return std::optional<std::size_t>{};
+  }
+  const auto size = static_cast<std::size_t>(n);
+  if (size > buf.size()) {
+    return make_error(Errc::out_of_range, fmt::format("{}: frame of {} bytes dropped, receive buffer has {}",
+                                                      interface_, size, buf.size()));
+  }
+  if (!is_ethercat_frame(buf.first(size))) {
+    return std::optional<std::size_t>{};
+  }
+  return std::optional<std::size_t>{size};
+}
+
 Result<std::size_t> RawSocketLink::receive(MutableByteSpan buf, std::chrono::nanoseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + timeout;
+  // First spin on non-blocking reads (no wake-up latency for a frame that
+  // comes back quickly), then sleep in ppoll for the rest of the timeout.
+  const auto spin_until = start + std::min(timeout, options_.busy_poll);
+  while (std::chrono::steady_clock::now() < spin_until) {
+    auto got = read_frame(buf);
+    if (!got || *got) {
+      return got ? Result<std::size_t>{**got} : Result<std::size_t>{got.error()};
+    }
+  }
   while (true) {
     pollfd pfd{fd_, POLLIN, 0};
     const timespec ts = to_timespec(deadline - std::chrono::steady_clock::now());
@@ -142,30 +186,13 @@ Result<std::size_t> RawSocketLink::receive(MutableByteSpan buf, std::chrono::nan
     if (ready == 0) {
       return std::size_t{0};
     }
-    sockaddr_ll from{};
-    socklen_t from_len = sizeof from;
-    const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), MSG_TRUNC | MSG_DONTWAIT,
-                                 reinterpret_cast<sockaddr*>(&from), &from_len);  // NOLINT
-    if (n < 0) {
-      if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
-        continue;
-      }
-      return os_error("recvfrom", interface_, errno);
+    auto got = read_frame(buf);
+    if (!got) {
+      return got.error();
     }
-    // Our own transmissions are looped back to packet sockets: skip them.
-    if (from.sll_pkttype == PACKET_OUTGOING) {
-      continue;
+    if (*got) {
+      return **got;
     }
-    const auto size = static_cast<std::size_t>(n);
-    if (size > buf.size()) {
-      return make_error(
-          Errc::out_of_range,
-          fmt::format("{}: frame of {} bytes dropped, receive buffer has {}", interface_, size, buf.size()));
-    }
-    if (!is_ethercat_frame(buf.first(size))) {
-      continue;
-    }
-    return size;
   }
 }
 

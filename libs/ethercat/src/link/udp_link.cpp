@@ -204,9 +204,9 @@ Result<std::size_t> UdpLink::receive(MutableByteSpan buf, std::chrono::nanosecon
   }
 }
 
-Result<std::unique_ptr<Link>> open_link(const std::string& spec) {
+Result<std::unique_ptr<Link>> open_link(const std::string& spec, RawSocketOptions raw_options) {
   if (spec.rfind("udp:", 0) != 0) {
-    auto raw = RawSocketLink::open(spec);
+    auto raw = RawSocketLink::open(spec, raw_options);
     if (!raw) {
       return raw.error();
     }

@@ -4,8 +4,12 @@
 //             last one, toggling bit 4 each time;
 //   download: expedited for ≤ 4 bytes, else normal with as much as fits in
 //             the first message and download segments for the rest.
-// An abort from the slave becomes an Errc::remote error with the code's text.
+// An abort from the slave (CoE service 2, ETG.1000.6 §5.6.2.7.1; service 3
+// from slaves that get that wrong) ends the transfer: the *_answer functions
+// return it typed, sdo_upload/sdo_download as an Errc::remote error with the
+// code's text and the code (kSdoAbortTable).
 #include <algorithm>
+#include <optional>
 #include <variant>
 
 #include <fmt/format.h>
@@ -16,15 +20,30 @@
 namespace sf::ethercat::master {
 namespace {
 
-// Unrelated mailbox traffic (emergencies, stale answers) we skip while
-// waiting for the answer to our request.
-constexpr int kMaxSkippedMessages = 8;
-
 std::string object_name(std::uint16_t index, std::uint8_t subindex) {
   return fmt::format("0x{:04x}:{:02x}", index, subindex);
 }
 
-// Sends one SDO request and returns the slave's SDO response.
+// The slave's answer to an SDO request in a CoE message: an SDO response
+// (service 3) or an abort (service 2). nullopt: not an answer (an emergency,
+// another service), skipped while waiting.
+std::optional<Result<SdoResponse>> sdo_answer(const CoeMessage& coe) {
+  if (coe.coe.service == CoeService::SdoResponse) {
+    return decode_sdo_response(coe.body);
+  }
+  if (coe.coe.service == CoeService::SdoRequest) {
+    auto request = decode_sdo_request(coe.body);
+    if (!request) {
+      return Result<SdoResponse>{request.error()};
+    }
+    if (const auto* abort = std::get_if<SdoAbort>(&*request)) {
+      return Result<SdoResponse>{SdoResponse{*abort}};
+    }
+  }
+  return std::nullopt;
+}
+
+// Sends one SDO request and returns the slave's SDO response or abort.
 Result<SdoResponse> sdo_exchange(Master& m, std::size_t position, const SdoRequest& request,
                                  std::uint16_t index, std::uint8_t subindex) {
   const auto counter = m.next_mailbox_counter(position);
@@ -33,48 +52,22 @@ Result<SdoResponse> sdo_exchange(Master& m, std::size_t position, const SdoReque
     return message.error();
   }
   SF_TRY(m.mailbox_write(position, *message));
-  for (int skipped = 0; skipped <= kMaxSkippedMessages; ++skipped) {
-    auto buffer = m.mailbox_read(position, m.options().mailbox_timeout);
-    if (!buffer) {
-      return buffer.error();
-    }
-    auto mailbox = decode_mailbox(*buffer);
-    if (!mailbox) {
-      return mailbox.error().with_context(fmt::format("slave {} mailbox", position));
-    }
-    if (mailbox->header.type == MailboxType::Err) {
-      auto err = decode_mailbox_error(mailbox->data);
-      return make_error(Errc::remote, fmt::format("slave {}: mailbox error {}", position,
-                                                  err ? describe(*err) : std::string_view{"(malformed)"}));
-    }
-    if (mailbox->header.type != MailboxType::CoE) {
-      continue;
-    }
-    auto coe = decode_coe(*buffer);
-    if (!coe) {
-      return coe.error().with_context(fmt::format("slave {} CoE", position));
-    }
-    if (coe->coe.service != CoeService::SdoResponse) {
-      continue;  // e.g. an emergency
-    }
-    auto response = decode_sdo_response(coe->body);
-    if (!response) {
-      return response.error().with_context(
-          fmt::format("slave {} SDO {}", position, object_name(index, subindex)));
-    }
-    if (const auto* abort = std::get_if<SdoAbort>(&*response)) {
-      return make_error(Errc::remote, fmt::format("slave {}: {}", position, describe(*abort)));
-    }
-    return response;
+  auto buffer = m.read_coe_answer(position, [](const CoeMessage& c) { return sdo_answer(c).has_value(); });
+  if (!buffer) {
+    return buffer.error().with_context(fmt::format("SDO {}", object_name(index, subindex)));
   }
-  return make_error(Errc::malformed,
-                    fmt::format("slave {}: no SDO response for {}", position, object_name(index, subindex)));
+  auto answer = *sdo_answer(decode_coe(*buffer).value());
+  if (!answer) {
+    return answer.error().with_context(
+        fmt::format("slave {} SDO {}", position, object_name(index, subindex)));
+  }
+  return answer;
 }
 
 }  // namespace
 
-Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std::uint8_t subindex,
-                                 bool complete_access) {
+Result<SdoAnswer<Bytes>> Master::sdo_upload_answer(std::size_t position, std::uint16_t index,
+                                                   std::uint8_t subindex, bool complete_access) {
   if (position >= slaves_.size() || !slaves_[position].mailbox.coe()) {
     return make_error(Errc::unsupported, fmt::format("slave {} has no CoE mailbox", position));
   }
@@ -84,6 +77,9 @@ Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std:
   if (!first) {
     return first.error();
   }
+  if (const auto* abort = std::get_if<SdoAbort>(&*first)) {
+    return SdoAnswer<Bytes>{*abort};
+  }
   const auto* initiate = std::get_if<SdoInitiateUploadResponse>(&*first);
   if (initiate == nullptr || initiate->index != index || initiate->subindex != subindex) {
     return make_error(Errc::malformed, fmt::format("slave {}: unexpected answer to upload of {}", position,
@@ -91,7 +87,7 @@ Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std:
   }
   Bytes data = initiate->data;
   if (initiate->expedited || data.size() >= initiate->complete_size) {
-    return data;
+    return SdoAnswer<Bytes>{std::move(data)};
   }
   // Segmented: upload segments until the last one (ETG.1000.6 §5.6.2.5).
   const std::uint32_t total = initiate->complete_size;
@@ -100,6 +96,9 @@ Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std:
     auto next = sdo_exchange(*this, position, SdoUploadSegmentRequest{toggle}, index, subindex);
     if (!next) {
       return next.error();
+    }
+    if (const auto* abort = std::get_if<SdoAbort>(&*next)) {
+      return SdoAnswer<Bytes>{*abort};
     }
     const auto* segment = std::get_if<SdoUploadSegmentResponse>(&*next);
     if (segment == nullptr || segment->toggle != toggle) {
@@ -122,11 +121,12 @@ Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std:
                       fmt::format("slave {}: upload of {} ended after {} of {} bytes", position,
                                   object_name(index, subindex), data.size(), total));
   }
-  return data;
+  return SdoAnswer<Bytes>{std::move(data)};
 }
 
-Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint8_t subindex, ByteSpan data,
-                            bool complete_access) {
+Result<std::optional<SdoAbort>> Master::sdo_download_answer(std::size_t position, std::uint16_t index,
+                                                            std::uint8_t subindex, ByteSpan data,
+                                                            bool complete_access) {
   if (position >= slaves_.size() || !slaves_[position].mailbox.coe()) {
     return make_error(Errc::unsupported, fmt::format("slave {} has no CoE mailbox", position));
   }
@@ -149,6 +149,9 @@ Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint
   if (!answer) {
     return answer.error();
   }
+  if (const auto* abort = std::get_if<SdoAbort>(&*answer)) {
+    return std::optional<SdoAbort>{*abort};
+  }
   const auto* initiate = std::get_if<SdoInitiateDownloadResponse>(&*answer);
   if (initiate == nullptr || initiate->index != index || initiate->subindex != subindex) {
     return make_error(Errc::malformed, fmt::format("slave {}: unexpected answer to download of {}", position,
@@ -168,6 +171,9 @@ Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint
     if (!next) {
       return next.error();
     }
+    if (const auto* abort = std::get_if<SdoAbort>(&*next)) {
+      return std::optional<SdoAbort>{*abort};
+    }
     const auto* ack = std::get_if<SdoDownloadSegmentResponse>(&*next);
     if (ack == nullptr || ack->toggle != toggle) {
       return make_error(Errc::malformed, fmt::format("slave {}: bad download segment answer for {}", position,
@@ -180,6 +186,30 @@ Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint
     // its power, the recovery writes it again.
     slaves_[position].startup_sdos.push_back(
         StartupSdo{index, subindex, complete_access, Bytes(data.begin(), data.end())});
+  }
+  return std::optional<SdoAbort>{};
+}
+
+Result<Bytes> Master::sdo_upload(std::size_t position, std::uint16_t index, std::uint8_t subindex,
+                                 bool complete_access) {
+  auto answer = sdo_upload_answer(position, index, subindex, complete_access);
+  if (!answer) {
+    return answer.error();
+  }
+  if (const auto* abort = std::get_if<SdoAbort>(&*answer)) {
+    return sdo_abort_error(*abort, fmt::format("slave {}", position));
+  }
+  return std::get<Bytes>(std::move(*answer));
+}
+
+Status Master::sdo_download(std::size_t position, std::uint16_t index, std::uint8_t subindex, ByteSpan data,
+                            bool complete_access) {
+  auto answer = sdo_download_answer(position, index, subindex, data, complete_access);
+  if (!answer) {
+    return answer.error();
+  }
+  if (*answer) {
+    return sdo_abort_error(**answer, fmt::format("slave {}", position));
   }
   return {};
 }

@@ -2,10 +2,13 @@
 // datasheet II §12 "SyncManager", mailbox mode): SM0 carries master → slave
 // messages, SM1 slave → master. A write fills the whole SM0 buffer (the ESC
 // marks the mailbox full when its last byte is written); a read polls SM1
-// status bit 3 "mailbox full", then reads the whole SM1 buffer. A read whose
-// frame got lost has emptied the mailbox on the slave: the repeat request
-// (SM1 activate bit 1, acknowledged in PDI control bit 1) makes the slave put
-// the last message in again.
+// status bit 3 "mailbox full", then reads the whole SM1 buffer. Lost frames:
+//   write  sent again with the same mailbox counter; a slave that got the
+//          first one ignores the copy;
+//   read   never read again (that would take the next queued message): the
+//          repeat request (SM1 activate bit 1, acknowledged in PDI control
+//          bit 1) makes the slave put the last message in again, and the
+//          mailbox counter tells that copy from a message already received.
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -102,56 +105,19 @@ Status Master::mailbox_write(std::size_t position, ByteSpan message) {
   std::array<Datagram, 1> write{Datagram{Command::FPWR, 0, Datagram::physical(s.station, s.mailbox.rx_offset),
                                          0, false, Bytes(message.begin(), message.end()), 0}};
   write[0].data.resize(s.mailbox.rx_size, 0);
-  bool unsure = false;  // the last write's frame was lost: did it arrive?
   auto written = [&]() -> Result<bool> {
-    if (unsure) {
-      // If the message waits in SM0 or is already answered in SM1, it
-      // arrived; if that cannot be read now either, ask again next time.
-      auto arrived = delivered(position);
-      if (!arrived) {
-        return not_yet_if_lost(arrived, [](bool yes) { return yes; });
-      }
-      if (*arrived) {
-        return true;
-      }
-      unsure = false;
-    }
-    // Sent once: a resent copy of a message the slave already took would be
-    // executed twice by slaves that do not check the mailbox counter.
+    // A write whose frame got lost is sent again, unchanged: if the first one
+    // arrived, the slave sees the same mailbox counter and ignores the copy
+    // (ETG.1000.4 §5.6). Guessing from SM1 whether it arrived cannot work:
+    // SM1 may hold an older message (an emergency) that looks like an answer.
     auto st = bus_.transceive(write, 0);
     if (st) {
       return write[0].wkc == 1;  // WKC 0: SM0 still full, try again
     }
-    if (st.error().code != Errc::timeout) {
-      return st.error();
-    }
-    unsure = true;
-    return false;
+    return not_yet_if_lost(Result<bool>{st.error()}, [](bool b) { return b; });
   };
   return detail::poll_until(clock_, options_.mailbox_timeout, options_.poll_interval,
                             fmt::format("slave {} mailbox write (SM0 full)", position), written);
-}
-
-Result<bool> Master::delivered(std::size_t position) {
-  const auto& s = slaves_[position];
-  std::array<std::uint8_t, reg::kSyncManagerSize * 2> sms{};
-  SF_TRY(bus_.read_one(Command::FPRD, s.station, reg::sync_manager(0), sms));
-  if ((sms[reg::kSmStatus] & sm::kStatusMailboxFull) != 0) {
-    return true;  // still waiting in SM0
-  }
-  if ((sms[reg::kSyncManagerSize + reg::kSmStatus] & sm::kStatusMailboxFull) == 0) {
-    return false;
-  }
-  // An answer waits in SM1. Only its header is read — the ESC releases a
-  // mailbox when its last byte is read — to tell a new answer from a
-  // repeat of the one we already have.
-  std::array<std::uint8_t, kMailboxHeaderSize> header{};
-  SF_TRY(bus_.read_one(Command::FPRD, s.station, s.mailbox.tx_offset, header));
-  auto decoded = MailboxHeader::decode(header);
-  if (!decoded) {
-    return true;  // something new, if unreadable: let the reader deal with it
-  }
-  return decoded->counter == 0 || decoded->counter != s.mailbox.last_received_counter;
 }
 
 Result<Bytes> Master::mailbox_read(std::size_t position, std::chrono::nanoseconds timeout) {
@@ -173,8 +139,19 @@ Result<Bytes> Master::mailbox_read(std::size_t position, std::chrono::nanosecond
   while (repeats <= kMaxRepeats && skipped <= kMaxSkipped) {
     SF_TRY(detail::poll_until(clock_, timeout, options_.poll_interval,
                               fmt::format("slave {} mailbox read (SM1 empty)", position), full));
-    auto wkc = bus_.read(Command::FPRD, Datagram::physical(s.station, s.mailbox.tx_offset), buffer);
-    if (wkc && *wkc == 1) {
+    // One attempt only: a read whose answer got lost has emptied SM1, and a
+    // second read would take the next queued message (an emergency, the next
+    // fragment) while the lost one is gone for good. The repeat request
+    // below brings the lost one back instead (ETG.1000.4 §5.6).
+    std::array<Datagram, 1> read{Datagram{Command::FPRD, 0,
+                                          Datagram::physical(s.station, s.mailbox.tx_offset), 0, false,
+                                          Bytes(s.mailbox.tx_size, 0), 0}};
+    auto st = bus_.transceive(read, 0);
+    if (!st && st.error().code != Errc::timeout) {
+      return st.error();
+    }
+    if (st && read[0].wkc == 1) {
+      std::copy(read[0].data.begin(), read[0].data.end(), buffer.begin());
       // A message with the counter of the previous one is a repeat of what
       // we already have (ETG.1000.4 §5.6); wait for the next.
       auto header = MailboxHeader::decode(buffer);
@@ -187,7 +164,8 @@ Result<Bytes> Master::mailbox_read(std::size_t position, std::chrono::nanosecond
       s.mailbox.last_received_counter = counter;
       return buffer;
     }
-    // The read emptied the mailbox but its frame did not come back.
+    // The read's frame did not come back (or found SM1 emptied by an earlier
+    // one that did not come back): the message may be lost on the way.
     log_->warn("slave {}: mailbox read lost, repeat request", position);
     ++mailbox_repeats_;
     ++repeats;
@@ -225,6 +203,53 @@ Status Master::repeat_request(std::size_t position, std::chrono::nanoseconds tim
   };
   return detail::poll_until(clock_, timeout, options_.poll_interval,
                             fmt::format("slave {} mailbox repeat acknowledge", position), acknowledged);
+}
+
+Result<Bytes> Master::read_coe_answer(std::size_t position,
+                                      const std::function<bool(const CoeMessage&)>& wanted) {
+  // Whatever else the slave has queued (emergencies, answers the master gave
+  // up on) is skipped until the answer comes or the mailbox timeout passes:
+  // a drive with eight faulted axes queues eight emergencies at once.
+  const auto deadline = clock_.now() + options_.mailbox_timeout;
+  while (true) {
+    const auto left = deadline - clock_.now();
+    if (left <= std::chrono::nanoseconds{0}) {
+      return make_error(
+          Errc::timeout,
+          fmt::format(
+              "slave {}: no CoE answer within {} ms", position,
+              std::chrono::duration_cast<std::chrono::milliseconds>(options_.mailbox_timeout).count()));
+    }
+    auto buffer = mailbox_read(position, left);
+    if (!buffer) {
+      return buffer.error();
+    }
+    auto mailbox = decode_mailbox(*buffer);
+    if (!mailbox) {
+      return mailbox.error().with_context(fmt::format("slave {} mailbox", position));
+    }
+    if (mailbox->header.type == MailboxType::Err) {
+      auto err = decode_mailbox_error(mailbox->data);
+      return make_error(Errc::remote, fmt::format("slave {}: mailbox error {}", position,
+                                                  err ? describe(*err) : std::string_view{"(malformed)"}));
+    }
+    if (mailbox->header.type != MailboxType::CoE) {
+      continue;
+    }
+    auto coe = decode_coe(*buffer);
+    if (!coe) {
+      return coe.error().with_context(fmt::format("slave {} CoE", position));
+    }
+    if (wanted(*coe)) {
+      return buffer;
+    }
+    if (coe->coe.service == CoeService::Emergency) {
+      if (auto e = CoeEmergency::decode(coe->body)) {
+        log_->info("slave {}: emergency 0x{:04X} (error register 0x{:02X})", position, e->error_code,
+                   e->error_register);
+      }
+    }
+  }
 }
 
 }  // namespace sf::ethercat::master

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "sf/ethercat/master/master.hpp"
+#include "sf/ethercat/sdo_abort_codes.hpp"
 
 namespace sf::ethercat::master {
 namespace {
@@ -109,8 +110,9 @@ Result<PdoMapping> Master::read_pdo_mapping(std::size_t position) {
       return coe;
     }
     // A CoE slave without 0x1C12/0x1C13 (abort "object does not exist") still
-    // describes its fixed mapping in the SII.
-    if (coe.error().code != Errc::remote) {
+    // describes its fixed mapping in the SII; any other failure is one.
+    const ProtocolCode missing{kSdoAbortTable, static_cast<std::uint32_t>(SdoAbortCode::ObjectDoesNotExist)};
+    if (coe.error().protocol_code != missing) {
       return coe.error();
     }
     log_->info("slave {}: no PDO assignment via CoE ({}), using SII", position, coe.error().message);

@@ -78,7 +78,7 @@ void DriveDevice::build_sii(const Config& config, const DeviceOptions& options) 
   general.group = "smartfactory";
   general.order = std::string(config.kind);
   general.name = config.name;
-  general.coe_details = sii::coe_details::kSdo | sii::coe_details::kPdoAssign |
+  general.coe_details = sii::coe_details::kSdo | sii::coe_details::kSdoInfo | sii::coe_details::kPdoAssign |
                         sii::coe_details::kPdoConfiguration | sii::coe_details::kSdoCompleteAccess;
   general.physical_port = 0x0011;  // ports 0 and 1: MII
   sii_.general = general;

@@ -4,6 +4,7 @@ namespace sf::ethercat::slave::detail {
 
 void MailboxUnit::reset() {
   queue_.clear();
+  fragments_.clear();
   in_mailbox_.reset();
   last_.reset();
   sdo_.reset();
@@ -51,15 +52,34 @@ void MailboxUnit::on_request(ByteSpan buffer, AlState state, std::size_t reply_c
     error(message->data.size() < kCoeHeaderSize ? MailboxError::SizeTooShort : MailboxError::InvalidHeader);
     return;
   }
-  if (coe->coe.service != CoeService::SdoRequest) {
-    error(MailboxError::ServiceNotSupported);
-    return;
+  fragments_.clear();  // a new request ends an SDO Information response in progress
+  switch (coe->coe.service) {
+    case CoeService::SdoRequest:
+      serve_sdo(coe->body, state, reply_capacity);
+      return;
+    case CoeService::SdoInformation:
+      if (coe->body.size() < kSdoInfoHeaderSize) {
+        error(MailboxError::SizeTooShort);
+        return;
+      }
+      for (auto& fragment : sdo_info_.handle(coe->body, reply_capacity)) {
+        fragments_.push_back(std::move(fragment));
+      }
+      return;
+    default:
+      // ETG.1000.4 Table 30: the CoE service (PDO by mailbox, a response
+      // from the master, ...) is not offered.
+      error(MailboxError::ServiceNotSupported);
+      return;
   }
+}
+
+void MailboxUnit::serve_sdo(ByteSpan body, AlState state, std::size_t reply_capacity) {
   std::optional<SdoResponse> response;
-  if (auto request = decode_sdo_request(coe->body); request) {
+  if (auto request = decode_sdo_request(body); request) {
     response = sdo_.handle(*request, state, reply_capacity);
   } else {
-    response = sdo_.malformed(coe->body);
+    response = sdo_.malformed(body);
   }
   if (!response) {
     return;
@@ -69,6 +89,15 @@ void MailboxUnit::on_request(ByteSpan buffer, AlState state, std::size_t reply_c
   } else {
     error(MailboxError::NoMoreMemory);
   }
+}
+
+const Bytes* MailboxUnit::next_reply() {
+  if (queue_.empty() && !fragments_.empty()) {
+    queue(encode_coe(MailboxHeader{0, 0, 0, 0, MailboxType::CoE, next_counter()},
+                     CoeHeader{0, CoeService::SdoInformation}, fragments_.front()));
+    fragments_.pop_front();
+  }
+  return queue_.empty() ? nullptr : &queue_.front();
 }
 
 void MailboxUnit::push_emergency(const CoeEmergency& emergency) {

@@ -70,22 +70,29 @@ Bytes ecat_frame(MacAddress src, std::uint8_t index) {
   return encode(f).value();
 }
 
+// Links on both ends of the pair (null if one could not be opened).
+std::pair<std::unique_ptr<RawSocketLink>, std::unique_ptr<RawSocketLink>> open_pair(
+    VethNamespace& ns, RawSocketOptions options_a, RawSocketOptions options_b) {
+  std::pair<std::unique_ptr<RawSocketLink>, std::unique_ptr<RawSocketLink>> out;
+  ns.inside([&] {
+    auto a = RawSocketLink::open(ns.a(), options_a);
+    auto b = RawSocketLink::open(ns.b(), options_b);
+    EXPECT_TRUE(a) << a.error().describe();
+    EXPECT_TRUE(b) << b.error().describe();
+    if (a && b) {
+      out = {std::move(*a), std::move(*b)};
+    }
+  });
+  return out;
+}
+
 TEST(RawSocketLink, ExchangesFramesOverAVethPair) {
   if (::geteuid() != 0) {
     GTEST_SKIP() << "needs root (CAP_NET_ADMIN for ip netns, CAP_NET_RAW for AF_PACKET)";
   }
   VethNamespace ns;
   ASSERT_TRUE(ns.ok()) << "could not create netns/veth with ip(8)";
-  std::unique_ptr<RawSocketLink> a;
-  std::unique_ptr<RawSocketLink> b;
-  ns.inside([&] {
-    auto la = RawSocketLink::open(ns.a());
-    auto lb = RawSocketLink::open(ns.b());
-    ASSERT_TRUE(la) << la.error().describe();
-    ASSERT_TRUE(lb) << lb.error().describe();
-    a = std::move(*la);
-    b = std::move(*lb);
-  });
+  auto [a, b] = open_pair(ns, {}, {});
   ASSERT_TRUE(a && b);
   EXPECT_EQ(a->name(), ns.a());
   EXPECT_GT(a->interface_index(), 0);
@@ -117,6 +124,35 @@ TEST(RawSocketLink, ExchangesFramesOverAVethPair) {
   auto cut = b->receive(small, 2s);
   ASSERT_FALSE(cut);
   EXPECT_EQ(cut.error().code, Errc::out_of_range);
+}
+
+TEST(RawSocketLink, BusyPollReceivesAndStillTimesOut) {
+  if (::geteuid() != 0) {
+    GTEST_SKIP() << "needs root (CAP_NET_ADMIN for ip netns, CAP_NET_RAW for AF_PACKET)";
+  }
+  VethNamespace ns;
+  ASSERT_TRUE(ns.ok()) << "could not create netns/veth with ip(8)";
+  // a spins longer than its receive timeouts, b only briefly.
+  auto [a, b] = open_pair(ns, RawSocketOptions{std::chrono::milliseconds{100}},
+                          RawSocketOptions{std::chrono::microseconds{20}});
+  ASSERT_TRUE(a && b);
+  std::array<std::uint8_t, kMaxFrameSize> buf{};
+  ASSERT_TRUE(b->send(ecat_frame(b->mac(), 5)));
+  auto got = a->receive(buf, 2s);
+  ASSERT_TRUE(got) << got.error().describe();
+  EXPECT_EQ(buf[17], 5);
+  // Nothing more comes: 0 after the timeout, spinning or sleeping.
+  auto none = a->receive(buf, 5ms);
+  ASSERT_TRUE(none);
+  EXPECT_EQ(*none, 0U);
+  ASSERT_TRUE(a->send(ecat_frame(a->mac(), 6)));
+  auto later = b->receive(buf, 2s);  // past its spin: from ppoll
+  ASSERT_TRUE(later);
+  EXPECT_EQ(buf[17], 6);
+  // Its own frames stay invisible to the sender while it spins.
+  auto own = a->receive(buf, 5ms);
+  ASSERT_TRUE(own);
+  EXPECT_EQ(*own, 0U);
 }
 
 TEST(RawSocketLink, ErrorsNameTheInterface) {

@@ -173,6 +173,18 @@ TEST(SdoResponses, AcknowledgementsAndAbort) {
   EXPECT_EQ(describe(abort), "SDO abort 0x06010002 (Attempt to write a read-only object) at 0x6041:00");
 }
 
+TEST(SdoResponses, AbortFromTheServerTravelsAsAnSdoRequest) {
+  // ETG.1000.6 §5.6.2.7.1: Abort SDO Transfer has CoE service 2 from either
+  // side; the CoE header is the 16-bit word after the 6-byte mailbox header.
+  auto msg = make_sdo_response(SdoAbort{0x5555, 0, 0x06020000}, 2, 0x1001);
+  ASSERT_TRUE(msg);
+  EXPECT_EQ((*msg)[7] >> 4U, 2) << "CoE service bits 15:12";
+  auto coe = decode_coe(*msg);
+  ASSERT_TRUE(coe);
+  EXPECT_EQ(coe->coe.service, CoeService::SdoRequest);
+  EXPECT_EQ(std::get<SdoAbort>(decode_sdo_request(coe->body).value()).code, 0x06020000U);
+}
+
 TEST(Sdo, EveryVariantRoundTrips) {
   const std::vector<SdoRequest> requests{SdoInitiateDownloadRequest::make(0x7000, 2, Bytes{1, 2, 3}, 100),
                                          SdoInitiateDownloadRequest::make(0x7000, 0, Bytes(50, 7), 30, true),
@@ -203,7 +215,8 @@ TEST(Sdo, EveryVariantRoundTrips) {
     auto coe = decode_coe(*msg);
     ASSERT_TRUE(coe);
     EXPECT_EQ(coe->mailbox.address, 0x1001);
-    EXPECT_EQ(coe->coe.service, CoeService::SdoResponse);
+    const bool abort = std::holds_alternative<SdoAbort>(r);
+    EXPECT_EQ(coe->coe.service, abort ? CoeService::SdoRequest : CoeService::SdoResponse);
     auto back = decode_sdo_response(coe->body);
     ASSERT_TRUE(back) << back.error().describe();
     EXPECT_EQ(*back, r) << "variant " << r.index();

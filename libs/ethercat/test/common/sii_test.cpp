@@ -134,6 +134,23 @@ TEST(SiiRoundTrip, EveryCategory) {
   EXPECT_EQ(back->tx_pdos[0].bit_length(), 80U);
 }
 
+TEST(SiiEncode, DeviceNameIsStringOne) {
+  // Masters that do not follow the General category's NameIdx show string 1
+  // as the slave's name: it must be the name, not the group.
+  SiiInfo info = servo();
+  info.strings.clear();
+  info.general->group = "smartfactory";
+  auto image = encode_sii(info);
+  ASSERT_TRUE(image) << image.error().describe();
+  auto back = parse_sii(*image);
+  ASSERT_TRUE(back) << back.error().describe();
+  ASSERT_FALSE(back->strings.empty());
+  EXPECT_EQ(back->strings[0], "Servo drive");
+  EXPECT_EQ(back->name(), "Servo drive");
+  EXPECT_EQ(back->general->group, "smartfactory");
+  EXPECT_EQ(back->general->order, "SF-SERVO-1");
+}
+
 TEST(SiiRoundTrip, MinimalDeviceWithoutCategories) {
   SiiInfo info;
   info.identity.vendor_id = 0x1;

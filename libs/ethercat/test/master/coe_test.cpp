@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "segment_bench.hpp"
+#include "sf/ethercat/sdo_abort_codes.hpp"
 #include "sf/ethercat/slave/devices.hpp"
 #include "sf/ethercat/slave/standard_objects.hpp"
 
@@ -100,6 +101,7 @@ TEST_F(Coe, AbortForAMissingObjectCarriesCodeAndText) {
   EXPECT_EQ(missing.error().code, Errc::remote);
   EXPECT_NE(missing.error().message.find("06020000"), std::string::npos) << missing.error().message;
   EXPECT_NE(missing.error().message.find("not exist"), std::string::npos) << missing.error().message;
+  EXPECT_EQ(missing.error().protocol_code, (ProtocolCode{kSdoAbortTable, 0x06020000U}));
   // The mailbox is still usable afterwards.
   EXPECT_TRUE(b.master->sdo_read<std::uint32_t>(0, 0x1018, 1).ok());
 }
@@ -109,6 +111,26 @@ TEST_F(Coe, AbortForAWriteToAReadOnlyObject) {
   ASSERT_FALSE(st.ok());
   EXPECT_EQ(st.error().code, Errc::remote);
   EXPECT_NE(st.error().message.find("06010002"), std::string::npos) << st.error().message;
+}
+
+TEST_F(Coe, RejectedDownloadIsReportedAsTheSlavesAbort) {
+  // 0x1018:01 is read-only: the slave answers Abort SDO Transfer (CoE
+  // service 2), which the client must take as the answer.
+  auto answer = b.master->sdo_download_answer(0, 0x1018, 1, Bytes{1, 2, 3, 4});
+  ASSERT_TRUE(answer.ok()) << answer.error().describe();
+  ASSERT_TRUE(answer->has_value()) << "the write was refused";
+  EXPECT_EQ((*answer)->code, static_cast<std::uint32_t>(SdoAbortCode::ReadOnly));
+  EXPECT_EQ((*answer)->index, 0x1018);
+  EXPECT_EQ((*answer)->subindex, 1);
+  // A segmented download refused at its start: the abort, not a timeout.
+  auto big = b.master->sdo_download_answer(0, 0x1008, 0, Bytes(300, 'x'));
+  ASSERT_TRUE(big.ok()) << big.error().describe();
+  ASSERT_TRUE(big->has_value());
+  EXPECT_EQ((*big)->code, static_cast<std::uint32_t>(SdoAbortCode::ReadOnly));
+  auto upload = b.master->sdo_upload_answer(0, 0x5555, 0);
+  ASSERT_TRUE(upload.ok()) << upload.error().describe();
+  ASSERT_TRUE(std::holds_alternative<SdoAbort>(*upload));
+  EXPECT_EQ(std::get<SdoAbort>(*upload).code, static_cast<std::uint32_t>(SdoAbortCode::ObjectDoesNotExist));
 }
 
 TEST_F(Coe, SlaveWithoutMailboxIsRefused) {

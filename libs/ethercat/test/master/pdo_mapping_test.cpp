@@ -5,10 +5,30 @@
 #include <gtest/gtest.h>
 
 #include "segment_bench.hpp"
+#include "sf/ethercat/sdo_abort_codes.hpp"
 #include "sf/ethercat/slave/devices.hpp"
+#include "sf/ethercat/slave/standard_objects.hpp"
 
 namespace sf::ethercat::master::test {
 namespace {
+
+// A CoE slave with a fixed mapping: no 0x1C12/0x1C13 in its dictionary (an
+// upload answers "object does not exist"), the PDOs only in its SII.
+class FixedMappingServo final : public slave::Device {
+ public:
+  FixedMappingServo() {
+    slave::add_identity_objects(od_, slave::DeviceIdentity{0x00020192, slave::kVendorId, 0x00029999,
+                                                           0x00010000, 1, "Fixed-mapping servo"});
+  }
+  [[nodiscard]] std::string_view kind() const override { return "fixed-servo"; }
+  [[nodiscard]] const SiiInfo& sii() const override { return servo_.sii(); }
+  [[nodiscard]] slave::ObjectDictionary& objects() override { return od_; }
+  [[nodiscard]] bool outputs_safe() const override { return true; }
+
+ private:
+  slave::Servo servo_;
+  slave::ObjectDictionary od_;
+};
 
 TEST(PdoMapping, FromCoeForAMailboxSlave) {
   Bench b("servo:1");
@@ -44,6 +64,40 @@ TEST(PdoMapping, FromSiiForASlaveWithoutMailbox) {
   ASSERT_TRUE(m->find(0x7000, 0).has_value());
   EXPECT_EQ(m->find(0x7000, 0)->first, PdoDirection::output);
   EXPECT_EQ(m->find(0x6000, 0)->first, PdoDirection::input);
+}
+
+TEST(PdoMapping, FromSiiWhenTheSlaveAbortsObjectDoesNotExist) {
+  Bench b([](slave::Segment& s) { s.add(std::make_unique<FixedMappingServo>()); });
+  ASSERT_TRUE(b.master->scan().ok());
+  ASSERT_TRUE(b.master->request_state(AlState::PreOp).ok());
+  auto answer = b.master->sdo_upload_answer(0, 0x1C12, 0);
+  ASSERT_TRUE(answer.ok()) << answer.error().describe();
+  ASSERT_TRUE(std::holds_alternative<SdoAbort>(*answer));
+  EXPECT_EQ(std::get<SdoAbort>(*answer).code, static_cast<std::uint32_t>(SdoAbortCode::ObjectDoesNotExist));
+
+  const auto before = b.clock.now();
+  auto m = b.master->read_pdo_mapping(0);
+  ASSERT_TRUE(m.ok()) << m.error().describe();
+  EXPECT_EQ(m->source, PdoMapping::Source::sii);
+  EXPECT_EQ(m->output_bits, 48U);
+  EXPECT_EQ(m->input_bits, 80U);
+  EXPECT_LT(b.clock.now() - before, b.master->options().mailbox_timeout) << "no mailbox timeout on the way";
+  // The whole configuration takes the same way.
+  auto st = b.master->configure_process_data();
+  ASSERT_TRUE(st.ok()) << st.error().describe();
+  EXPECT_EQ(b.master->slave_info(0).pdo.source, PdoMapping::Source::sii);
+}
+
+TEST(PdoMapping, OtherAbortsAreErrorsNotAFallback) {
+  Bench b("servo:1");
+  ASSERT_TRUE(b.master->scan().ok());
+  ASSERT_TRUE(b.master->request_state(AlState::PreOp).ok());
+  // 0x1C12:00 made unreadable: "attempt to read a write-only object".
+  b.segment->slave(0).objects().find(0x1C12, 0)->access = slave::access::kWrite;
+  auto m = b.master->read_pdo_mapping(0);
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.error().code, Errc::remote);
+  EXPECT_NE(m.error().message.find("06010001"), std::string::npos) << m.error().message;
 }
 
 TEST(PdoMapping, SiiAndCoeAgreeForTheDefaultMapping) {

@@ -8,6 +8,7 @@
 
 #include "sf/ethercat/mailbox.hpp"
 #include "sf/ethercat/sdo_abort_codes.hpp"
+#include "sf/ethercat/sdo_info.hpp"
 #include "sf/ethercat/slave/devices.hpp"
 #include "sf/ethercat/slave/standard_objects.hpp"
 #include "slave_test_support.hpp"
@@ -54,10 +55,36 @@ class SdoTest : public ::testing::Test {
     EXPECT_TRUE(coe.ok()) << (coe.ok() ? "" : coe.error().describe());
     if (!coe)
       return SdoAbort{};
-    EXPECT_EQ(coe->coe.service, CoeService::SdoResponse);
     auto response = decode_sdo_response(coe->body);
     EXPECT_TRUE(response.ok());
-    return response.ok() ? *response : SdoResponse{SdoAbort{}};
+    if (!response)
+      return SdoAbort{};
+    // Abort SDO Transfer is CoE service 2 (ETG.1000.6 §5.6.2.7.1), every
+    // other answer service 3.
+    const bool abort = std::holds_alternative<SdoAbort>(*response);
+    EXPECT_EQ(coe->coe.service, abort ? CoeService::SdoRequest : CoeService::SdoResponse);
+    return *response;
+  }
+  // An SDO Information request; the reassembled answer and how many
+  // mailbox messages carried it.
+  std::pair<std::optional<SdoInfoMessage>, int> info(const SdoInfoMessage& request) {
+    EXPECT_EQ(send(make_sdo_info(request, counter_ = next_mailbox_counter(counter_))), 1);
+    SdoInfoReassembly reassembly;
+    for (int messages = 1; messages < 100; ++messages) {
+      auto reply = receive();
+      if (!reply)
+        return {std::nullopt, messages};
+      auto coe = decode_coe(*reply);
+      EXPECT_TRUE(coe.ok());
+      if (!coe)
+        return {std::nullopt, messages};
+      EXPECT_EQ(coe->coe.service, CoeService::SdoInformation);
+      auto m = reassembly.add(coe->body);
+      EXPECT_TRUE(m.ok()) << (m.ok() ? "" : m.error().describe());
+      if (!m || m->has_value())
+        return {m ? std::move(*m) : std::nullopt, messages};
+    }
+    return {std::nullopt, 100};
   }
   // A full upload, segmented if needed; aborts come back as their code.
   std::variant<Bytes, std::uint32_t> upload(std::uint16_t index, std::uint8_t sub, bool ca = false) {
@@ -320,6 +347,110 @@ TEST_F(SdoTest, EmergencyOnAxisFault) {
   ASSERT_TRUE(coe.ok());
   ASSERT_EQ(coe->coe.service, CoeService::Emergency);
   EXPECT_EQ(CoeEmergency::decode(coe->body)->error_code, kErrorFollowing);
+}
+
+}  // namespace
+}  // namespace sf::ethercat::slave
+
+namespace sf::ethercat::slave {
+namespace {
+
+TEST_F(SdoTest, SdoInfoListsEveryObject) {
+  const auto& od = h.segment->slave(0).objects();
+  auto [all, messages] = info(OdListRequest{OdListType::All});
+  ASSERT_TRUE(all.has_value());
+  const auto& indices = std::get<OdListResponse>(*all).indices;
+  ASSERT_EQ(indices.size(), od.objects().size());
+  EXPECT_EQ(indices.front(), 0x1000);
+  EXPECT_EQ(messages, 1);
+  auto [lengths, _] = info(OdListRequest{OdListType::Lengths});
+  ASSERT_TRUE(lengths.has_value());
+  const auto& n = std::get<OdListResponse>(*lengths).indices;
+  ASSERT_EQ(n.size(), 5U);
+  EXPECT_EQ(n[0], od.objects().size());
+  auto [rx, rx_messages] = info(OdListRequest{OdListType::RxPdoMappable});
+  ASSERT_TRUE(rx.has_value());
+  const auto& rx_list = std::get<OdListResponse>(*rx).indices;
+  EXPECT_EQ(rx_list.size(), n[1]);
+  EXPECT_NE(std::find(rx_list.begin(), rx_list.end(), 0x6040), rx_list.end()) << "controlword";
+  EXPECT_EQ(std::find(rx_list.begin(), rx_list.end(), 0x6041), rx_list.end()) << "statusword is an input";
+}
+
+TEST_F(SdoTest, SdoInfoDescribesObjectsAndEntries) {
+  auto [object, m1] = info(ObjectDescriptionRequest{0x1018});
+  ASSERT_TRUE(object.has_value());
+  const auto& o = std::get<ObjectDescription>(*object);
+  EXPECT_EQ(o.index, 0x1018);
+  EXPECT_EQ(o.object_code, 9);  // RECORD
+  EXPECT_EQ(o.max_subindex, 4);
+  EXPECT_EQ(o.name, h.segment->slave(0).objects().find(0x1018)->name());
+  auto [entry, m2] = info(EntryDescriptionRequest{0x1018, 1, 0});
+  ASSERT_TRUE(entry.has_value());
+  const auto& e = std::get<EntryDescription>(*entry);
+  EXPECT_EQ(e.data_type, data_type::kUnsigned32);
+  EXPECT_EQ(e.bit_length, 32);
+  EXPECT_EQ(e.object_access, access::kRO);
+  EXPECT_EQ(e.name, h.segment->slave(0).objects().find(0x1018, 1)->name);
+  auto [cw, m3] = info(EntryDescriptionRequest{0x6040, 0, value_info::kDefault});
+  ASSERT_TRUE(cw.has_value());
+  EXPECT_EQ(std::get<EntryDescription>(*cw).value_info, 0) << "no default value is offered";
+  EXPECT_NE(std::get<EntryDescription>(*cw).object_access & access::kRxPdo, 0);
+}
+
+TEST_F(SdoTest, SdoInfoErrorsCarryAnAbortCode) {
+  const auto error_of = [&](const SdoInfoMessage& request) -> std::uint32_t {
+    auto [m, _] = info(request);
+    if (!m || !std::holds_alternative<SdoInfoError>(*m))
+      return 0;
+    return std::get<SdoInfoError>(*m).code;
+  };
+  EXPECT_EQ(error_of(ObjectDescriptionRequest{0x5555}), code(SdoAbortCode::ObjectDoesNotExist));
+  EXPECT_EQ(error_of(EntryDescriptionRequest{0x1018, 9, 0}), code(SdoAbortCode::SubindexDoesNotExist));
+  EXPECT_EQ(error_of(OdListRequest{static_cast<OdListType>(6)}), code(SdoAbortCode::UnsupportedAccess));
+  // A response or error opcode from the client, or an opcode that does not
+  // exist: "command specifier not valid", not a mailbox error.
+  EXPECT_EQ(error_of(SdoInfoError{0}), code(SdoAbortCode::InvalidCommandSpecifier));
+  EXPECT_EQ(error_of(OdListResponse{}), code(SdoAbortCode::InvalidCommandSpecifier));
+  const Bytes unknown{0x0F, 0x00, 0x00, 0x00, 0x00, 0x00};
+  ASSERT_EQ(
+      send(encode_coe(MailboxHeader{0, 0, 0, 0, MailboxType::CoE, counter_ = next_mailbox_counter(counter_)},
+                      CoeHeader{0, CoeService::SdoInformation}, unknown)),
+      1);
+  auto reply = receive();
+  ASSERT_TRUE(reply.has_value());
+  auto coe = decode_coe(*reply);
+  ASSERT_TRUE(coe.ok());
+  EXPECT_EQ(coe->body[0], 7) << "SDO Info Error request";
+  EXPECT_EQ(load_le<std::uint32_t>(coe->body.data() + 4), code(SdoAbortCode::InvalidCommandSpecifier));
+}
+
+TEST_F(SdoTest, SdoInfoFragmentsComeOneAfterTheOther) {
+  // 200 more objects: 2 + 2 * 225 bytes of indices, 116 per 128-byte mailbox.
+  auto& od = h.segment->slave(0).objects();
+  for (std::uint16_t i = 0; i < 200; ++i) {
+    od.add_var(static_cast<std::uint16_t>(0x3000 + i), "Filler", DataType::Unsigned8, access::kRO);
+  }
+  auto [all, messages] = info(OdListRequest{OdListType::All});
+  ASSERT_TRUE(all.has_value());
+  EXPECT_EQ(std::get<OdListResponse>(*all).indices.size(), od.objects().size());
+  EXPECT_EQ(messages, static_cast<int>((2 + 2 * od.objects().size() + 115) / 116));
+  EXPECT_FALSE(receive().has_value()) << "nothing after the last fragment";
+  // The mailbox serves SDO right afterwards.
+  EXPECT_EQ(std::get<Bytes>(upload(0x1018, 1)), Harness::le<std::uint32_t>(kVendorId));
+}
+
+TEST_F(SdoTest, CoeServicesNotOfferedGetAMailboxError) {
+  // A TxPDO by mailbox (CoE service 4): ETG.1000.4 Table 30 "service not supported".
+  ASSERT_EQ(
+      send(encode_coe(MailboxHeader{0, 0, 0, 0, MailboxType::CoE, counter_ = next_mailbox_counter(counter_)},
+                      CoeHeader{0, CoeService::TxPdo}, Bytes(8, 0))),
+      1);
+  auto reply = receive();
+  ASSERT_TRUE(reply.has_value());
+  auto message = decode_mailbox(*reply);
+  ASSERT_TRUE(message.ok());
+  EXPECT_EQ(message->header.type, MailboxType::Err);
+  EXPECT_EQ(decode_mailbox_error(message->data).value(), MailboxError::ServiceNotSupported);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 // The SII EEPROM interface 0x0500–0x050F (ET1100 datasheet II §3.45).
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 #include "sf/ethercat/sii.hpp"
 #include "sf/ethercat/slave/devices.hpp"
 #include "sf/ethercat/slave/standard_objects.hpp"
@@ -51,6 +54,22 @@ TEST(Sii, EightByteReadsReturnTheEncodedImage) {
   EXPECT_EQ(info->rx_pdos[0].entries[0].index, 0x6040);
   EXPECT_EQ(info->tx_pdos[1].entries[1].index, 0x6864);  // axis 1 position actual
   EXPECT_TRUE(info->supports_dc());
+}
+
+TEST(Sii, EveryDeviceKindHasItsOwnNameAsStringOne) {
+  // What a master that takes string 1 as the name (SOEM, KickCAT) shows.
+  std::set<std::string> names;
+  for (const auto kind : device_kinds()) {
+    auto device = make_device(kind);
+    ASSERT_TRUE(device.ok()) << kind;
+    auto info = parse_sii(*encode_sii((*device)->sii()));
+    ASSERT_TRUE(info.ok()) << info.error().describe();
+    ASSERT_FALSE(info->strings.empty()) << kind;
+    EXPECT_EQ(info->strings[0], info->name()) << kind;
+    EXPECT_NE(info->strings[0], info->general->group) << kind;
+    names.insert(info->strings[0]);
+  }
+  EXPECT_EQ(names.size(), device_kinds().size());
 }
 
 TEST(Sii, FourByteReadsWhenTheEscSaysSo) {

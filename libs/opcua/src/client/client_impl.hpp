@@ -220,6 +220,8 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   Status check_create_response(const CreateSessionResponse& response);
   // ActivateSession: our signature and the user identity token.
   Status fill_activation(ActivateSessionRequest& request) const;
+  [[nodiscard]] Status check_token_certificate(const ByteString& certificate,
+                                               std::string_view channel_policy) const;
 
   // ---- history (history.cpp) ----
   void history_read_raw(NodeId node, HistoryRawParams params, std::vector<DataValue> collected,

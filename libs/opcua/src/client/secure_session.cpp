@@ -2,6 +2,7 @@
 // (OPC 10000-4 §5.4.4, §6.1.3), the secured channel, CreateSession's signature and endpoint
 // list (§5.6.2), ActivateSession's signature and user identity tokens (§5.6.3, §7.40).
 #include <algorithm>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -37,6 +38,16 @@ bool same_leaf(const ByteString& a, const ByteString& b) {
   return la && lb && *la == *lb;
 }
 
+// §5.4.4 leaves the choice among equal securityLevels to the client: SignAndEncrypt over Sign
+// (MessageSecurityMode's values rise with protection), then the stronger policy.
+bool more_secure(const EndpointDescription& a, const EndpointDescription& b) {
+  const auto rank = [](const EndpointDescription& e) {
+    return std::tuple(e.security_level, static_cast<int>(e.security_mode),
+                      security::policy_strength(e.security_policy_uri.view()));
+  };
+  return rank(a) > rank(b);
+}
+
 std::string host_of(std::string_view url) {
   auto parsed = parse_endpoint_url(url);
   return parsed ? parsed->first : std::string();
@@ -56,7 +67,7 @@ Result<EndpointDescription> select_endpoint(const std::vector<EndpointDescriptio
     if (!transport || !policy_ok || !mode_ok || !has_token(e, user)) {
       continue;
     }
-    if (best == nullptr || e.security_level > best->security_level) {
+    if (best == nullptr || more_secure(e, *best)) {
       best = &e;
     }
   }
@@ -137,6 +148,8 @@ ClientTransportConfig Client::Impl::transport_config() const {
 }
 
 void Client::Impl::secure_create_request(CreateSessionRequest& request) {
+  // Our certificate also goes over a None channel when we have one: some servers name theirs,
+  // which an encrypted password needs, only to a client that named its own.
   const bool secure = endpoint && !is_none(endpoint->security_policy_uri.view());
   if (secure || !config.security.credentials.certificate.empty()) {
     request.client_certificate = config.security.credentials.certificate;
@@ -185,8 +198,26 @@ Status Client::Impl::check_create_response(const CreateSessionResponse& response
   return {};
 }
 
+// §7.41.2.1: a secret is encrypted only for a server certificate the client trusts. Over a
+// secured channel discovery checked it; over a None channel nothing has yet.
+Status Client::Impl::check_token_certificate(const ByteString& certificate,
+                                             std::string_view channel_policy) const {
+  if (certificate.empty()) {
+    return status_error(status::BadCertificateInvalid,
+                        "the server named no certificate to encrypt the password with");
+  }
+  if (is_none(channel_policy) && config.security.validate_server_certificate) {
+    return config.security.validate_server_certificate(certificate);
+  }
+  return {};
+}
+
 Status Client::Impl::fill_activation(ActivateSessionRequest& request) const {
-  const ByteString& server_certificate = session->server_certificate;
+  // §5.6.2: a server may leave CreateSession's serverCertificate empty on a None channel (some
+  // do when the client sent no certificate); the endpoint's is the same application's.
+  const ByteString& server_certificate = session->server_certificate.empty() && endpoint
+                                             ? endpoint->server_certificate
+                                             : session->server_certificate;
   const std::string channel_policy = endpoint ? endpoint->security_policy_uri.str() : std::string();
   const MessageSecurityMode channel_mode = endpoint ? endpoint->security_mode : MessageSecurityMode::None;
   const Bytes signed_data = concat(server_certificate, session->server_nonce);
@@ -232,6 +263,7 @@ Status Client::Impl::fill_activation(ActivateSessionRequest& request) const {
       }
       token.password = ByteString(password);
     } else {
+      SF_TRY(check_token_certificate(server_certificate, channel_policy));
       auto secret =
           security::encrypt_secret(protect, server_certificate, password, session->server_nonce.span());
       if (!secret) {

@@ -34,7 +34,9 @@ Status configure_client_security(const ClientSecuritySettings& settings, ClientC
     out.policy_uri = *policy;
     out.mode = *mode;
   }
-  if (wanted != "none") {
+  // A password over a None channel is still encrypted for the server's certificate, which the PKI
+  // checks; our certificate goes into CreateSession so that every server names its own.
+  if (wanted != "none" || (!o.user.empty() && o.user_certificate.empty())) {
     auto own = security::own_credentials(o.pki);
     if (!own) {
       return own.error();

@@ -1,5 +1,6 @@
 // The policy table and the session-level asymmetric operations: CreateSession/ActivateSession
-// signatures (OPC 10000-4 §5.6.2, §5.6.3, §7.36) and encrypted user token secrets (§7.40.2.2).
+// signatures (OPC 10000-4 §5.6.2, §5.6.3, §7.36) and encrypted user token secrets (§7.41.2.2).
+#include <algorithm>
 #include <array>
 
 #include <fmt/format.h>
@@ -128,16 +129,21 @@ Result<Bytes> decrypt_secret(std::string_view policy_uri, ByteSpan private_key, 
   }
   ByteReader reader(*plain);
   const std::uint32_t length = reader.u32();
-  if (!reader.ok() || length != reader.remaining() || length < nonce.size()) {
+  if (!reader.ok() || length > reader.remaining() || length < nonce.size()) {
     return status_error(status::BadIdentityTokenInvalid, "the token secret has the wrong length");
   }
-  const ByteSpan rest = reader.rest();
-  const ByteSpan tail = rest.subspan(rest.size() - nonce.size());
+  const ByteSpan data = reader.rest().first(length);
+  // §7.41.2.2: a client should not pad after the nonce; if it does, every padding byte is zero.
+  const ByteSpan padding = reader.rest().subspan(length);
+  if (std::any_of(padding.begin(), padding.end(), [](std::uint8_t b) { return b != 0; })) {
+    return status_error(status::BadIdentityTokenInvalid, "the token secret's padding is not zero");
+  }
+  const ByteSpan tail = data.subspan(data.size() - nonce.size());
   if (!std::equal(tail.begin(), tail.end(), nonce.begin(), nonce.end())) {
-    // §7.40.2.2: the secret carries the last server nonce, so an old token cannot be replayed.
+    // §7.41.2.2: the secret carries the last server nonce, so an old token cannot be replayed.
     return status_error(status::BadIdentityTokenInvalid, "the token secret carries another server nonce");
   }
-  return Bytes(rest.begin(), rest.end() - static_cast<std::ptrdiff_t>(nonce.size()));
+  return Bytes(data.begin(), data.end() - static_cast<std::ptrdiff_t>(nonce.size()));
 }
 
 }  // namespace sf::opcua::security

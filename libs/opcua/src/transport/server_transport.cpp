@@ -1,6 +1,7 @@
 // ServerTransport: one SecureChannel per accepted TCP connection (OPC 10000-6 §7.1, §6.7).
 #include "sf/opcua/transport/server_transport.hpp"
 
+#include <algorithm>
 #include <map>
 
 #include <fmt/format.h>
@@ -21,6 +22,11 @@ const sf::log::Logger& logger() {
 
 class ServerConnection;
 
+// "127.0.0.1:53124" → "127.0.0.1", "[::1]:4840" → "[::1]".
+std::string source_address(const std::string& peer) {
+  return peer.substr(0, peer.rfind(':'));
+}
+
 }  // namespace
 
 struct ServerTransport::Impl : std::enable_shared_from_this<ServerTransport::Impl> {
@@ -38,6 +44,9 @@ struct ServerTransport::Impl : std::enable_shared_from_this<ServerTransport::Imp
   bool stopped = false;
 
   void accept(std::shared_ptr<net::TcpConnection> tcp);
+  bool make_room(const std::string& address);
+  bool evict_one(const std::string* address);
+  void refuse(const std::shared_ptr<net::TcpConnection>& tcp, std::string reason);
   std::uint32_t allocate_channel_id();
   void remove(std::uint64_t key);
 };
@@ -56,6 +65,7 @@ class ServerConnection final : public ServerChannel, public std::enable_shared_f
         tcp_(std::move(tcp)),
         channel_(std::move(config), owner->clock) {
     info_.peer = tcp_->peer();
+    address_ = source_address(info_.peer);
   }
 
   ~ServerConnection() override { cancel_timers(); }
@@ -104,6 +114,17 @@ class ServerConnection final : public ServerChannel, public std::enable_shared_f
   }
 
   [[nodiscard]] bool is_open() const override { return channel_.is_open() && !finished_; }
+  // A secure channel was opened (OPN answered) on this connection.
+  [[nodiscard]] bool opened() const { return opened_; }
+  [[nodiscard]] const std::string& address() const { return address_; }
+
+  // Gives the connection's place to a new one (Part 6 §7.1.5: ERR, then close).
+  void evict() {
+    channel_.fail(status::BadTcpNotEnoughResources,
+                  opened_ ? "the channel was closed for a new connection: no session uses it"
+                          : "the connection was closed for a new one: no secure channel opened yet");
+    pump();
+  }
 
   // stop(): close without telling the owner (it is clearing its map).
   void shut_down() {
@@ -246,6 +267,7 @@ class ServerConnection final : public ServerChannel, public std::enable_shared_f
   std::shared_ptr<net::TcpConnection> tcp_;
   SecureChannel channel_;
   ChannelInfo info_;
+  std::string address_;
   net::EventLoop::TimerId hello_timer_ = 0;
   net::EventLoop::TimerId tick_timer_ = 0;
   bool pumping_ = false;
@@ -261,14 +283,10 @@ void ServerTransport::Impl::accept(std::shared_ptr<net::TcpConnection> tcp) {
     tcp->abort();
     return;
   }
-  if (connections.size() >= config.max_channels) {
-    // §7.1.5: refuse with ERR; the connection lives until its close completes.
-    logger()->warn("connection from {} rejected: {} channels in use", tcp->peer(), connections.size());
-    tcp->set_on_close([tcp](const Status&) {});
-    tcp->send(
-        encode_error(ErrorMessage{status::BadTcpNotEnoughResources,
-                                  fmt::format("the server allows {} secure channels", config.max_channels)}));
-    tcp->close();
+  if (!make_room(source_address(tcp->peer()))) {
+    refuse(tcp,
+           fmt::format("every one of the server's secure channels ({} in all, {} per address) has a session",
+                       config.max_channels, config.max_channels_per_address));
     return;
   }
   SecureChannelConfig sc;
@@ -286,6 +304,53 @@ void ServerTransport::Impl::accept(std::shared_ptr<net::TcpConnection> tcp) {
   auto conn = std::make_shared<ServerConnection>(shared_from_this(), key, std::move(tcp), std::move(sc));
   connections.emplace(key, conn);
   conn->start(config.hello_timeout);
+}
+
+// A place for a new connection from `address` within both limits, evicting where needed.
+bool ServerTransport::Impl::make_room(const std::string& address) {
+  if (config.max_channels_per_address != 0) {
+    const auto from_address = static_cast<std::size_t>(
+        std::count_if(connections.begin(), connections.end(),
+                      [&](const auto& entry) { return entry.second->address() == address; }));
+    if (from_address >= config.max_channels_per_address && !evict_one(&address)) {
+      return false;
+    }
+  }
+  return connections.size() < config.max_channels || evict_one(nullptr);
+}
+
+// Evicts the oldest connection (of `address`, or of any) without a secure channel, else the
+// oldest channel without an activated session, so that neither silent connections nor channels
+// opened and left idle starve clients that log in. False when every channel holds a session.
+bool ServerTransport::Impl::evict_one(const std::string* address) {
+  std::shared_ptr<ServerConnection> victim;
+  for (const bool opened : {false, true}) {
+    for (const auto& [key, conn] : connections) {  // keys grow with age: oldest first
+      if ((address == nullptr || conn->address() == *address) && conn->opened() == opened &&
+          (!opened || !handler.holds_session(conn->info().channel_id))) {
+        victim = conn;
+        break;
+      }
+    }
+    if (victim) {
+      break;
+    }
+  }
+  if (!victim) {
+    return false;
+  }
+  logger()->debug("connection {} (channel {}) evicted for a new connection", victim->info().peer,
+                  victim->info().channel_id);
+  victim->evict();  // removes itself from `connections`
+  return true;
+}
+
+// §7.1.5: refuse with ERR; the connection lives until its close completes.
+void ServerTransport::Impl::refuse(const std::shared_ptr<net::TcpConnection>& tcp, std::string reason) {
+  logger()->warn("connection from {} rejected: {}", tcp->peer(), reason);
+  tcp->set_on_close([tcp](const Status&) {});
+  tcp->send(encode_error(ErrorMessage{status::BadTcpNotEnoughResources, std::move(reason)}));
+  tcp->close();
 }
 
 std::uint32_t ServerTransport::Impl::allocate_channel_id() {

@@ -68,6 +68,16 @@ class FakeServer : public ServiceHandler {
   [[nodiscard]] std::string url() const { return "opc.tcp://127.0.0.1:" + std::to_string(port_); }
   [[nodiscard]] std::uint16_t port() const { return port_; }
 
+  // The None endpoint also offers UserName logins with the secret encrypted for `certificate`
+  // under `policy_uri`; CreateSession names no server certificate (as some servers do on a None
+  // channel) but a server nonce of 32 bytes.
+  void offer_user_name(ByteString certificate, std::string policy_uri) {
+    std::lock_guard lock(mutex_);
+    user_certificate_ = std::move(certificate);
+    user_policy_uri_ = std::move(policy_uri);
+  }
+  static ByteString server_nonce() { return ByteString(Bytes(32, 0x5A)); }
+
   void set_read_handler(ReadHandler handler) {
     std::lock_guard lock(mutex_);
     read_handler_ = std::move(handler);
@@ -200,6 +210,15 @@ class FakeServer : public ServiceHandler {
       policy.policy_id = "open-sesame";
       policy.token_type = UserTokenType::Anonymous;
       endpoint.user_identity_tokens.push_back(policy);
+      if (!user_certificate_.empty()) {
+        endpoint.server_certificate = user_certificate_;
+        UserTokenPolicy user;
+        user.policy_id = "user";
+        user.token_type = UserTokenType::UserName;
+        user.security_policy_uri = user_policy_uri_;
+        endpoint.user_identity_tokens.push_back(user);
+        response.server_nonce = server_nonce();
+      }
       response.server_endpoints.push_back(endpoint);
       sessions_.insert(to_string(response.authentication_token));
       return response;
@@ -209,7 +228,9 @@ class FakeServer : public ServiceHandler {
         return fault(r->request_header, status::BadSessionIdInvalid);
       }
       const auto* token = r->user_identity_token.get_if<AnonymousIdentityToken>();
-      if (token == nullptr || token->policy_id != "open-sesame") {
+      const auto* user = r->user_identity_token.get_if<UserNameIdentityToken>();
+      const bool user_ok = user != nullptr && user->policy_id == "user" && !user_certificate_.empty();
+      if (!user_ok && (token == nullptr || token->policy_id != "open-sesame")) {
         return fault(r->request_header, status::BadIdentityTokenInvalid);
       }
       ActivateSessionResponse response;
@@ -328,6 +349,8 @@ class FakeServer : public ServiceHandler {
   std::deque<Held> held_;
   std::map<std::uint32_t, NotificationMessage> retransmission_;
   ReadHandler read_handler_;
+  ByteString user_certificate_;
+  std::string user_policy_uri_;
   std::uint32_t next_session_ = 1;
   std::uint32_t next_subscription_id_ = 100;
   std::uint32_t next_item_id_ = 1;

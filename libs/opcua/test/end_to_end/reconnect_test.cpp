@@ -13,6 +13,7 @@
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/server/server.hpp"
 #include "tcp_proxy.hpp"
+#include "variables.hpp"
 
 namespace sf::opcua {
 namespace {
@@ -61,17 +62,7 @@ std::unique_ptr<server::Server> start_server(std::uint16_t port,
   config.transport.port = port;
   config.advertised_host = "127.0.0.1";
   auto s = std::make_unique<server::Server>(config);
-  s->with_address_space([&](server::AddressSpace& space) {
-    const std::uint16_t ns = space.add_namespace(kNamespace);
-    server::VariableSpec spec;
-    spec.node_id = NodeId(ns, String("Observed"));
-    spec.browse_name = QualifiedName(ns, "Observed");
-    spec.parent = NodeId(0, id::ObjectsFolder);
-    spec.reference_type = NodeId(0, id::Organizes);
-    spec.data_type = NodeId(0, id::Int32);
-    spec.reader = [observed] { return observed->read(); };
-    node = *space.add_variable(spec);
-  });
+  node = test::add_int32_variable(*s, kNamespace, "Observed", [observed] { return observed->read(); });
   EXPECT_TRUE(s->start().ok());
   return s;
 }

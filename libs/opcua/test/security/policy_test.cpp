@@ -195,6 +195,41 @@ TEST_P(PolicyTest, SessionSignaturesAndSecrets) {
   EXPECT_EQ(status_of(wrong_key.error()), status::BadIdentityTokenInvalid);
 }
 
+// OPC 10000-4 §7.41.2.2: a client should not pad the legacy token secret, but some fill the RSA
+// blocks with zeros after the server nonce; the server accepts zero padding and refuses any other.
+TEST_P(PolicyTest, TokenSecretsPaddedByTheClient) {
+  auto client_side = policy()->asymmetric(client(), server().certificate);
+  ASSERT_TRUE(client_side.ok()) << client_side.error().message;
+  const MessageCrypto& rsa = *client_side->sending;
+  const Bytes nonce = counting(32, 0x40);
+  const std::string password = "correct horse battery staple";
+  // The token secret as a client builds it by hand: length, secret, nonce, then `padding` bytes.
+  const auto token = [&](std::size_t blocks, std::uint8_t pad_byte, std::uint32_t length) {
+    ByteWriter plain;
+    plain.u32(length);
+    plain.bytes(ByteSpan(reinterpret_cast<const std::uint8_t*>(password.data()), password.size()));
+    plain.bytes(nonce);
+    Bytes bytes = plain.data();
+    bytes.resize(blocks * rsa.plain_block_size(), pad_byte);
+    return *rsa.encrypt(bytes);
+  };
+  const auto exact = static_cast<std::uint32_t>(password.size() + nonce.size());
+  for (const std::size_t blocks : {1U, 2U}) {
+    auto plain = decrypt_secret(GetParam(), server().private_key, token(blocks, 0, exact), nonce);
+    ASSERT_TRUE(plain.ok()) << blocks << " block(s): " << plain.error().message;
+    EXPECT_EQ(std::string(plain->begin(), plain->end()), password);
+  }
+  auto nonzero = decrypt_secret(GetParam(), server().private_key, token(1, 0x20, exact), nonce);
+  ASSERT_FALSE(nonzero.ok());
+  EXPECT_EQ(status_of(nonzero.error()), status::BadIdentityTokenInvalid);
+  // The length must still cover the nonce and stay inside the decrypted bytes.
+  for (const std::uint32_t length : {std::uint32_t{31}, static_cast<std::uint32_t>(rsa.plain_block_size())}) {
+    auto bad = decrypt_secret(GetParam(), server().private_key, token(1, 0, length), nonce);
+    ASSERT_FALSE(bad.ok()) << length;
+    EXPECT_EQ(status_of(bad.error()), status::BadIdentityTokenInvalid);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllPolicies, PolicyTest, ::testing::ValuesIn(secure_policy_uris()),
                          [](const auto& p) { return std::string(policy_name(p.param)); });
 

@@ -128,5 +128,40 @@ TEST(Users, SaveAndLoad) {
   EXPECT_FALSE(UserDatabase::load(dir.path() / "missing.yaml").ok());
 }
 
+// A running server sees users added or removed (`opcua users add` replaces the file) at the next
+// login; a file that stops parsing keeps the users last read.
+TEST(Users, FileIsReReadWhenItChanges) {
+  TempDir dir;
+  const auto file = dir.path() / "users.yaml";
+  UserDatabase db;
+  ASSERT_TRUE(db.put(User{"alice", *hash_password("wonderland", kFast), "", {"viewer"}}).ok());
+  ASSERT_TRUE(db.save(file).ok());
+  auto users = UsersFile::open(file);
+  ASSERT_TRUE(users.ok()) << users.error().message;
+  const auto first = (*users)->current();
+  EXPECT_EQ((*users)->current(), first);  // unchanged: the same users, not read again
+  EXPECT_EQ(first->find("bob"), nullptr);
+
+  ASSERT_TRUE(db.put(User{"bob", *hash_password("builder", kFast), "", {"operator"}}).ok());
+  ASSERT_TRUE(db.save(file).ok());
+  const auto second = (*users)->current();
+  ASSERT_NE(second->find("bob"), nullptr);
+  EXPECT_TRUE(second->authenticate("bob", "builder").ok());
+  EXPECT_EQ(first->find("bob"), nullptr);  // what a caller holds does not change under it
+
+  const std::string broken = "users: [ {name: carol";
+  ASSERT_TRUE(
+      write_file(file, ByteSpan(reinterpret_cast<const std::uint8_t*>(broken.data()), broken.size()), true)
+          .ok());
+  EXPECT_EQ((*users)->current(), second);
+
+  ASSERT_TRUE(db.remove("alice"));
+  ASSERT_TRUE(db.save(file).ok());
+  EXPECT_EQ((*users)->current()->find("alice"), nullptr);
+  std::filesystem::remove(file);
+  EXPECT_NE((*users)->current()->find("bob"), nullptr);
+  EXPECT_FALSE(UsersFile::open(dir.path() / "missing.yaml").ok());
+}
+
 }  // namespace
 }  // namespace sf::opcua::security::test

@@ -1,9 +1,16 @@
 // ServerTransport and ClientChannel over real TCP on 127.0.0.1.
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 #include <map>
 #include <optional>
+#include <set>
 
+#include "../test_util.hpp"
 #include "channel_harness.hpp"
 #include "sf/net/tcp.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -33,8 +40,12 @@ class EchoHandler : public ServiceHandler {
     }
   }
   void on_channel_closed(std::uint32_t channel_id) override { closed.push_back(channel_id); }
+  [[nodiscard]] bool holds_session(std::uint32_t channel_id) const override {
+    return with_session.count(channel_id) != 0;
+  }
 
   int requests = 0;
+  std::set<std::uint32_t> with_session;  // channels the test says an activated session uses
   ChannelInfo last_info;
   std::vector<std::pair<std::shared_ptr<ServerChannel>, std::uint32_t>> held;
   std::vector<std::uint32_t> closed;
@@ -98,6 +109,37 @@ class TransportTest : public ::testing::Test {
     auto channel = open(client_config());
     EXPECT_TRUE(channel.ok()) << channel.error().describe();
     return channel.ok() ? *channel : nullptr;
+  }
+
+  // A TCP connection from `source` that sends only what the test sends; records what the server
+  // sends and whether it closed the connection.
+  struct RawConnection {
+    std::shared_ptr<net::TcpConnection> tcp;
+    Bytes received;
+    bool closed = false;
+
+    // The status of the ERR the server closed the connection with.
+    [[nodiscard]] std::optional<StatusCode> error() const { return error_status(received); }
+  };
+  std::shared_ptr<RawConnection> raw_connection(const std::string& source = "127.0.0.1") {
+    auto s = std::make_shared<RawConnection>();
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in from{};
+    from.sin_family = AF_INET;
+    ::inet_pton(AF_INET, source.c_str(), &from.sin_addr);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(server_->port());
+    ::inet_pton(AF_INET, "127.0.0.1", &to.sin_addr);
+    // The kernel completes the handshake before the server's loop accepts.
+    EXPECT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from), 0);
+    EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+    s->tcp = net::TcpConnection::adopt(loop_, fd, "server");
+    RawConnection* raw = s.get();
+    s->tcp->set_on_data([raw](ByteSpan b) { raw->received.insert(raw->received.end(), b.begin(), b.end()); });
+    s->tcp->set_on_close([raw](const Status&) { raw->closed = true; });
+    return s;
   }
 
   static ReadRequest request(std::uint32_t handle, double size) {
@@ -329,23 +371,89 @@ TEST_F(TransportTest, ClientCloseIsSeenByTheServer) {
   EXPECT_FALSE(lost);  // close() is not an unexpected loss
 }
 
-TEST_F(TransportTest, MaxChannels) {
+// OPC 10000-6 §7.1.5: when every place is taken, a new connection takes the place of the oldest
+// connection without a secure channel, then of the oldest channel without an activated session;
+// only when every channel holds a session is it refused.
+TEST_F(TransportTest, NewConnectionsEvictIdleOnesOldestFirst) {
   ServerTransportConfig config;
-  config.max_channels = 1;
+  config.max_channels = 3;
   start_server(config);
-  auto first = open_ok();
-  ASSERT_TRUE(first);
-  auto second = open(client_config());
-  ASSERT_FALSE(second.ok());
-  EXPECT_EQ(status_of(second.error()), status::BadTcpNotEnoughResources) << second.error().message;
-  EXPECT_EQ(server_->channel_count(), 1U);
-  // The first one is unaffected.
+  auto a = open_ok();  // a channel no session uses
+  ASSERT_TRUE(a);
+  auto first_silent = raw_connection();
+  run_until([&] { return server_->channel_count() == 2; });
+  auto second_silent = raw_connection();
+  run_until([&] { return server_->channel_count() == 3; });
+
+  auto b = open_ok();  // evicts the older silent connection, though `a` is older still
+  ASSERT_TRUE(b);
+  run_until([&] { return first_silent->closed; });
+  EXPECT_EQ(first_silent->error(), status::BadTcpNotEnoughResources);
+  EXPECT_FALSE(second_silent->closed);
+  EXPECT_TRUE(a->is_open());
+
+  auto c = open_ok();  // the other silent one
+  ASSERT_TRUE(c);
+  run_until([&] { return second_silent->closed; });
+  EXPECT_TRUE(a->is_open());
+
+  auto d = open_ok();  // now the oldest channel without a session: a
+  ASSERT_TRUE(d);
+  run_until([&] { return !a->is_open(); });
+  EXPECT_EQ(server_->channel_count(), 3U);
+
+  // Sessions on b and d: c is the only one that may go.
+  handler_.with_session = {b->token().channel_id, d->token().channel_id};
+  auto e = open_ok();
+  ASSERT_TRUE(e);
+  run_until([&] { return !c->is_open(); });
+  handler_.with_session.insert(e->token().channel_id);
+  auto refused = open(client_config());
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(status_of(refused.error()), status::BadTcpNotEnoughResources) << refused.error().message;
+  EXPECT_EQ(server_->channel_count(), 3U);
+  // Those that hold sessions are unaffected.
   bool done = false;
-  first->send_request(request(1, 0), 5s, [&](Result<Message> r) {
+  b->send_request(request(1, 0), 5s, [&](Result<Message> r) {
     EXPECT_TRUE(r.ok());
     done = true;
   });
   run_until([&] { return done; });
+  EXPECT_TRUE(d->is_open() && e->is_open());
+}
+
+// One source address gets at most max_channels_per_address places; beyond, its own oldest idle
+// connection gives way, not another address's.
+TEST_F(TransportTest, ConnectionsPerSourceAddress) {
+  ServerTransportConfig config;
+  config.max_channels = 10;
+  config.max_channels_per_address = 2;
+  start_server(config);
+  auto other = raw_connection("127.0.0.2");
+  run_until([&] { return server_->channel_count() == 1; });
+  auto s1 = raw_connection();
+  auto s2 = raw_connection();
+  run_until([&] { return server_->channel_count() == 3; });
+  auto s3 = raw_connection();
+  run_until([&] { return s1->closed; });
+  EXPECT_EQ(s1->error(), status::BadTcpNotEnoughResources);
+  auto client = open_ok();  // from 127.0.0.1 too: takes s2's place
+  ASSERT_TRUE(client);
+  run_until([&] { return s2->closed; });
+  EXPECT_FALSE(other->closed);
+  EXPECT_FALSE(s3->closed);
+  EXPECT_EQ(server_->channel_count(), 3U);
+  // With the address's channels all holding sessions, it is refused; others still get in.
+  handler_.with_session.insert(client->token().channel_id);
+  auto second = open_ok();  // takes s3's place
+  ASSERT_TRUE(second);
+  handler_.with_session.insert(second->token().channel_id);
+  auto refused = open(client_config());
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(status_of(refused.error()), status::BadTcpNotEnoughResources);
+  auto from_elsewhere = raw_connection("127.0.0.3");
+  run_until([&] { return server_->channel_count() == 4; });
+  EXPECT_FALSE(other->closed);
 }
 
 TEST_F(TransportTest, ConnectionRefused) {
@@ -370,44 +478,19 @@ TEST_F(TransportTest, SilentConnectionIsClosedAfterTheHelloTimeout) {
   ServerTransportConfig config;
   config.hello_timeout = 100ms;
   start_server(config);
-  std::shared_ptr<net::TcpConnection> raw;
-  Bytes received;
-  bool closed = false;
-  net::connect_tcp(
-      loop_, "127.0.0.1", server_->port(), 5s, [&](Result<std::shared_ptr<net::TcpConnection>> r) {
-        ASSERT_TRUE(r.ok());
-        raw = *r;
-        raw->set_on_data([&](ByteSpan b) { received.insert(received.end(), b.begin(), b.end()); });
-        raw->set_on_close([&](const Status&) { closed = true; });
-      });
-  run_until([&] { return closed; });
-  auto header = decode_header(received);
-  ASSERT_TRUE(header.ok());
-  EXPECT_EQ(header->type, MessageType::Error);
-  auto err = decode_error_body(ByteSpan(received).subspan(8));
-  ASSERT_TRUE(err.ok());
-  EXPECT_EQ(err->error, status::BadTimeout);
+  auto raw = raw_connection();
+  run_until([&] { return raw->closed; });
+  EXPECT_EQ(raw->error(), status::BadTimeout);
   EXPECT_EQ(server_->channel_count(), 0U);
 }
 
 TEST_F(TransportTest, GarbageGetsAnErrAndTheServerKeepsServing) {
   start_server();
-  std::shared_ptr<net::TcpConnection> raw;
-  Bytes received;
-  bool closed = false;
-  net::connect_tcp(
-      loop_, "127.0.0.1", server_->port(), 5s, [&](Result<std::shared_ptr<net::TcpConnection>> r) {
-        ASSERT_TRUE(r.ok());
-        raw = *r;
-        raw->set_on_data([&](ByteSpan b) { received.insert(received.end(), b.begin(), b.end()); });
-        raw->set_on_close([&](const Status&) { closed = true; });
-        const std::string junk = "GET / HTTP/1.1\r\nHost: x\r\n\r\n";
-        raw->send(ByteSpan(reinterpret_cast<const std::uint8_t*>(junk.data()), junk.size()));
-      });
-  run_until([&] { return closed; });
-  auto err = decode_error_body(ByteSpan(received).subspan(8));
-  ASSERT_TRUE(err.ok());
-  EXPECT_EQ(err->error, status::BadTcpMessageTypeInvalid);
+  auto raw = raw_connection();
+  const std::string junk = "GET / HTTP/1.1\r\nHost: x\r\n\r\n";
+  raw->tcp->send(ByteSpan(reinterpret_cast<const std::uint8_t*>(junk.data()), junk.size()));
+  run_until([&] { return raw->closed; });
+  EXPECT_EQ(raw->error(), status::BadTcpMessageTypeInvalid);
   auto client = open_ok();
   EXPECT_TRUE(client && client->is_open());
 }

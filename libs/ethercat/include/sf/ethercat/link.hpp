@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <utility>
@@ -63,9 +64,18 @@ MemoryLinkPair make_memory_link_pair(const MemoryLinkOptions& options = {});
 // 0x88A4, promiscuous). Frames this socket sent itself (PACKET_OUTGOING) are
 // ignored. Needs CAP_NET_RAW. Errors name the interface and errno.
 // ---------------------------------------------------------------------------
+struct RawSocketOptions {
+  // receive() spins on non-blocking reads for up to this long before it
+  // sleeps in ppoll(): a frame that comes back within it is taken without
+  // waiting for the thread to be woken (the way SOEM's and KickCAT's receive
+  // loops wait), at the price of a busy core meanwhile. 0: always sleep.
+  std::chrono::nanoseconds busy_poll{0};
+};
+
 class RawSocketLink final : public Link {
  public:
-  static Result<std::unique_ptr<RawSocketLink>> open(const std::string& interface);
+  static Result<std::unique_ptr<RawSocketLink>> open(const std::string& interface,
+                                                     RawSocketOptions options = {});
   ~RawSocketLink() override;
   RawSocketLink(const RawSocketLink&) = delete;
   RawSocketLink& operator=(const RawSocketLink&) = delete;
@@ -77,13 +87,17 @@ class RawSocketLink final : public Link {
   [[nodiscard]] int interface_index() const { return ifindex_; }
 
  private:
-  RawSocketLink(int fd, int ifindex, std::string interface, MacAddress mac)
-      : fd_(fd), ifindex_(ifindex), interface_(std::move(interface)), mac_(mac) {}
+  RawSocketLink(int fd, int ifindex, std::string interface, MacAddress mac, RawSocketOptions options)
+      : fd_(fd), ifindex_(ifindex), interface_(std::move(interface)), mac_(mac), options_(options) {}
+  // One non-blocking read: a frame's length, nothing (none waiting, or one
+  // that is not for us), or an error.
+  Result<std::optional<std::size_t>> read_frame(MutableByteSpan buf);
 
   int fd_;
   int ifindex_;
   std::string interface_;
   MacAddress mac_;
+  RawSocketOptions options_;
 };
 
 // ---------------------------------------------------------------------------
@@ -133,8 +147,8 @@ class UdpLink final : public Link {
 
 // A link from a command-line spec: "udp:HOST:PORT" (a UdpLink to a segment
 // listening there; PORT defaults to 0x88A4) or an interface name (a
-// RawSocketLink).
-Result<std::unique_ptr<Link>> open_link(const std::string& spec);
+// RawSocketLink with `raw_options`).
+Result<std::unique_ptr<Link>> open_link(const std::string& spec, RawSocketOptions raw_options = {});
 
 // ---------------------------------------------------------------------------
 // PcapTap: a Link decorator that records every frame sent and received into a

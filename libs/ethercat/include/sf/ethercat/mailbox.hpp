@@ -261,11 +261,19 @@ Result<SdoRequest> decode_sdo_request(ByteSpan body);
 Result<SdoResponse> decode_sdo_response(ByteSpan body);
 
 // Complete mailbox messages (mailbox header + CoE header + SDO body) for the
-// common case, with the given counter and originator address.
+// common case, with the given counter and originator address. An abort goes
+// under CoE service 2 (SDO request) from either side (ETG.1000.6 §5.6.2.7.1);
+// every other response under service 3.
 Result<Bytes> make_sdo_request(const SdoRequest& request, std::uint8_t counter, std::uint16_t address = 0);
 Result<Bytes> make_sdo_response(const SdoResponse& response, std::uint8_t counter, std::uint16_t address = 0);
 
 // "SDO abort 0x06020000 (Object does not exist in the object dictionary) at 0x1234:05".
 std::string describe(const SdoAbort& abort);
+
+// The table of an Error's protocol_code that holds an SDO abort code.
+inline constexpr std::string_view kSdoAbortTable = "CoE SDO abort";
+// A slave's abort as an error, `errc` (default Errc::remote) with the
+// describe() text after `context` and the code kept typed.
+Error sdo_abort_error(const SdoAbort& abort, std::string_view context, Errc errc = Errc::remote);
 
 }  // namespace sf::ethercat

@@ -119,6 +119,11 @@ struct RobotSpec {
   std::vector<std::string> stations;        // "belt/station"
   std::vector<std::string> dispensers;
   std::vector<std::string> capabilities{"pick-and-place"};
+  // Where the tool waits and passes between dispensers and stations (a SCARA
+  // cannot go straight from a dispenser to a slot when the line between them
+  // passes too close to its shoulder axis). Default: 15 cm above the first
+  // station.
+  std::optional<Vec3> home;
   [[nodiscard]] bool reaches(const Vec3& point) const;
   [[nodiscard]] bool legacy() const { return kind != RobotKind::smart_scara; }
 };

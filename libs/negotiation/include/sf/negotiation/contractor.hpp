@@ -40,6 +40,36 @@ struct Skill {
   double cost_rate = 1.0;                                             // cost per second of work
 };
 
+struct Job;
+
+// What a contractor estimates for an announced operation when a WorkBackend
+// does its work.
+struct WorkEstimate {
+  std::chrono::nanoseconds start_in{0};  // until the machine could start it
+  std::chrono::nanoseconds duration{0};
+  std::uint32_t queue_length = 0;
+};
+
+// Where a contractor's work really happens (a shop-floor controller, the
+// factory module). Without one, the contractor simulates its jobs with its
+// skills' durations. With one, bids come from the backend's estimates, a
+// confirmed job is handed to it at once (it keeps its own queue), and the
+// job ends when the backend calls Contractor::report(). All calls come from
+// the contractor's thread; the backend reports from that thread too.
+class WorkBackend {
+ public:
+  virtual ~WorkBackend() = default;
+  // An estimate, or nullopt to decline the call for proposals (why_not says
+  // why: held, faulted, no stock of that candy, ...).
+  virtual std::optional<WorkEstimate> estimate(const std::string& operation, const std::vector<Param>& params,
+                                               std::string& why_not) = 0;
+  // A confirmed job with the parameters of its announcement. An error fails
+  // it at once (FAILURE with the message).
+  virtual Status start(const Job& job, const std::vector<Param>& params) = 0;
+  // The job was withdrawn (CANCEL, re-announcement, the manager gone).
+  virtual void abort(const Job& job, const std::string& why) = 0;
+};
+
 struct ContractorConfig {
   std::string name;
   std::vector<Skill> skills;
@@ -49,6 +79,7 @@ struct ContractorConfig {
   double failure_probability = 0.0;    // a job ends in FAILURE instead of INFORM-DONE
   std::uint64_t seed = 1;
   std::chrono::nanoseconds bid_memory{std::chrono::seconds{60}};  // forget bids never closed
+  WorkBackend* backend = nullptr;  // real work (see WorkBackend); must outlive the contractor
 };
 
 struct Job {
@@ -93,6 +124,10 @@ class Contractor final : public ContractorInbox {
 
   // Finishes jobs whose time is up and starts the next; forgets old bids.
   void tick();
+  // With a WorkBackend: the job of this conversation ended; INFORM-DONE (ok,
+  // with `detail` as its result) or FAILURE (detail as the reason) goes to
+  // the manager. Errc::not_found when no such job is queued.
+  Status report(const std::string& conversation, bool ok, const std::string& detail);
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const;
 
   [[nodiscard]] const std::string& name() const { return config_.name; }
@@ -113,6 +148,7 @@ class Contractor final : public ContractorInbox {
     bool bid = false;
     std::uint32_t handled_award = 0;  // highest award id answered
     Clock::time_point forget_at{};
+    std::vector<Param> params;  // of the announcement, for a WorkBackend
   };
 
   Contractor(ContractorTransport& transport, const Clock& clock, ContractorConfig config,
@@ -130,6 +166,8 @@ class Contractor final : public ContractorInbox {
   void drop_job(const std::string& conversation, const std::string& why);
   void start_head(Clock::time_point at);
   void finish_head();
+  void bid_from_backend(const Announce& a, Offer& offer);
+  void end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail);
   // Finishes the jobs whose work is over at `now` (tick; and at once a job that takes no time).
   void finish_due(Clock::time_point now);
   Status send(const std::string& conversation, const std::string& operation, std::uint32_t round,

@@ -154,7 +154,9 @@ Result<DataValue> value_attribute(const Node& node, const UserContext* user) {
     if ((v->access_level & access_level::CurrentRead) == 0) {
       return status_error(status::BadNotReadable, to_string(node.node_id) + " is not readable");
     }
-    if ((user_access_level(*v, user) & access_level::CurrentRead) == 0) {
+    // Only the read half of user_access_level: asking the user's roles about writing too would
+    // double the cost of every value read.
+    if ((v->user_access_level & access_level::CurrentRead) == 0 || (user != nullptr && !user->can_read(*v))) {
       return status_error(status::BadUserAccessDenied,
                           to_string(node.node_id) + " is not readable by the user");
     }
@@ -197,10 +199,9 @@ DataValue bad(StatusCode code) {
   return v;
 }
 
-}  // namespace
-
-DataValue read_attribute(const AddressSpace& space, const ReadValueId& item, TimestampsToReturn timestamps,
-                         const ServiceContext& ctx) {
+// One Read operation with the server timestamp of its request (one clock read per request).
+DataValue read_one(const AddressSpace& space, const ReadValueId& item, TimestampsToReturn timestamps,
+                   const ServiceContext& ctx, DateTime server_time) {
   const Node* node = space.find(item.node_id);
   const auto attribute = static_cast<AttributeId>(item.attribute_id);
   StatusCode failed;
@@ -243,9 +244,16 @@ DataValue read_attribute(const AddressSpace& space, const ReadValueId& item, Tim
     result.source_timestamp = DateTime();
     result.source_picoseconds = 0;
   }
-  result.server_timestamp = want_server ? detail::now(ctx) : DateTime();
+  result.server_timestamp = want_server ? server_time : DateTime();
   result.server_picoseconds = 0;
   return result;
+}
+
+}  // namespace
+
+DataValue read_attribute(const AddressSpace& space, const ReadValueId& item, TimestampsToReturn timestamps,
+                         const ServiceContext& ctx) {
+  return read_one(space, item, timestamps, ctx, detail::now(ctx));
 }
 
 ReadResponse read(AddressSpace& space, const ReadRequest& request, ServiceContext& ctx) {
@@ -270,7 +278,8 @@ ReadResponse read(AddressSpace& space, const ReadRequest& request, ServiceContex
   // maxAge: every read returns the current value (there is no cache to be older than it).
   response.results.reserve(request.nodes_to_read.size());
   for (const auto& item : request.nodes_to_read) {
-    response.results.push_back(read_attribute(space, item, request.timestamps_to_return, ctx));
+    response.results.push_back(
+        read_one(space, item, request.timestamps_to_return, ctx, response.response_header.timestamp));
   }
   return response;
 }

@@ -42,6 +42,10 @@ bool ServerSecurity::offers(std::string_view policy_uri, MessageSecurityMode mod
                      [&](const EndpointSecurity& e) { return e.policy_uri == uri && e.mode == mode; });
 }
 
+std::shared_ptr<const sec::UserDatabase> ServerSecurity::current_users() const {
+  return users_file ? users_file->current() : users;
+}
+
 std::vector<UserTokenPolicy> user_token_policies(const ServerSecurity& security,
                                                  const EndpointSecurity& endpoint) {
   std::vector<UserTokenPolicy> out;
@@ -54,18 +58,19 @@ std::vector<UserTokenPolicy> user_token_policies(const ServerSecurity& security,
   // Secrets are encrypted (and X509 tokens signed) with the endpoint's policy; on a None
   // endpoint with Basic256Sha256 and the server certificate, never in clear.
   const bool none = is_none(endpoint.policy_uri);
-  if (!security.users || (none && security.credentials.certificate.empty())) {
+  const auto users = security.current_users();
+  if (!users || (none && security.credentials.certificate.empty())) {
     return out;
   }
   const std::string token_policy = none ? std::string(sec::kBasic256Sha256Uri) : endpoint.policy_uri;
-  if (security.users->has_password_users()) {
+  if (users->has_password_users()) {
     UserTokenPolicy user;
     user.policy_id = std::string(kUserNamePolicyId);
     user.token_type = UserTokenType::UserName;
     user.security_policy_uri = token_policy;
     out.push_back(user);
   }
-  if (security.users->has_certificate_users()) {
+  if (users->has_certificate_users()) {
     UserTokenPolicy certificate;
     certificate.policy_id = std::string(kCertificatePolicyId);
     certificate.token_type = UserTokenType::Certificate;
@@ -83,7 +88,15 @@ std::uint8_t security_level(const EndpointSecurity& endpoint) {
 }
 
 RoleAccess::RoleAccess(const AddressSpace& space, std::vector<sec::Role> roles)
-    : space_(space), roles_(std::move(roles)) {}
+    : space_(space), roles_(std::move(roles)) {
+  for (const auto permission : {sec::Permission::Read, sec::Permission::Write, sec::Permission::Call}) {
+    grants_all_.at(static_cast<std::size_t>(permission)) =
+        std::any_of(roles_.begin(), roles_.end(), [permission](const sec::Role& role) {
+          const auto& patterns = role.patterns(permission);
+          return !patterns.empty() && patterns.front() == "*";
+        });
+  }
+}
 
 std::string RoleAccess::node_text(const NodeId& node) const {
   std::string text = to_string(node);
@@ -96,6 +109,9 @@ std::string RoleAccess::node_text(const NodeId& node) const {
 }
 
 bool RoleAccess::allows(sec::Permission permission, const Node& node) const {
+  if (grants_all_.at(static_cast<std::size_t>(permission))) {
+    return true;
+  }
   const std::string text = node_text(node.node_id);
   return std::any_of(roles_.begin(), roles_.end(),
                      [&](const sec::Role& role) { return sec::allowed(role.patterns(permission), text); });

@@ -40,14 +40,14 @@ Result<std::string> configure_server_security(const ServerSecuritySettings& sett
   out.endpoints = ServerSecurity::endpoints_for(*policies, *modes);
   const bool secure = std::any_of(modes->begin(), modes->end(),
                                   [](MessageSecurityMode m) { return m != MessageSecurityMode::None; });
-  std::shared_ptr<security::UserDatabase> users;
+  std::shared_ptr<const security::UserDatabase> users;
   if (!o.users.empty()) {
-    auto loaded = security::UserDatabase::load(o.users);
-    if (!loaded) {
-      return loaded.error();
+    auto file = security::UsersFile::open(o.users);  // re-read when `opcua users` changes it
+    if (!file) {
+      return file.error();
     }
-    users = std::make_shared<security::UserDatabase>(std::move(*loaded));
-    out.users = users;
+    out.users_file = *file;
+    users = out.current_users();
   }
   std::string pki_text = "no PKI";
   if (secure || users) {
@@ -72,9 +72,14 @@ Result<std::string> configure_server_security(const ServerSecuritySettings& sett
   if (out.allow_anonymous && (users ? users->role(anonymous) : builtin.role(anonymous)) == nullptr) {
     return make_error(Errc::invalid_argument, fmt::format("anonymous users: unknown role '{}'", anonymous));
   }
+  // Policies only matter to the endpoints that sign.
+  const std::string endpoints =
+      secure ? fmt::format("{} with {}", mode_names(*modes), o.policies) : mode_names(*modes);
   return fmt::format(
-      "security: {} with {}; {}; {}; anonymous users: {}", mode_names(*modes), o.policies, pki_text,
-      users ? fmt::format("{} users from {}", users->users().size(), o.users) : "no users", anonymous);
+      "security: {}; {}; {}; anonymous users: {}", endpoints, pki_text,
+      users ? fmt::format("{} users from {} (re-read when it changes)", users->users().size(), o.users)
+            : "no users",
+      anonymous);
 }
 
 }  // namespace sf::opcua::server

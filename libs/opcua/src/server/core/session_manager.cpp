@@ -165,4 +165,10 @@ Clock::time_point SessionManager::next_expiry() const {
   return next;
 }
 
+bool SessionManager::has_activated_session(std::uint32_t channel_id) const {
+  return std::any_of(sessions_.begin(), sessions_.end(), [channel_id](const auto& entry) {
+    return entry.second->activated && entry.second->channel_id == channel_id;
+  });
+}
+
 }  // namespace sf::opcua::server

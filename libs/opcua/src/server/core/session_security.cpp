@@ -69,7 +69,8 @@ Result<SessionIdentity> user_name(const ServerSecurity& security,
                                   const std::vector<UserTokenPolicy>& policies, const ChannelInfo& channel,
                                   const Session& session, const UserNameIdentityToken& token) {
   const UserTokenPolicy* policy = find_token_policy(policies, token.policy_id, UserTokenType::UserName);
-  if (policy == nullptr || !security.users) {
+  const auto users = security.current_users();
+  if (policy == nullptr || !users) {
     return status_error(status::BadIdentityTokenRejected,
                         "user name tokens are not accepted on this endpoint");
   }
@@ -96,9 +97,9 @@ Result<SessionIdentity> user_name(const ServerSecurity& security,
     }
     password = std::move(*secret);
   }
-  auto user = security.users->authenticate(
-      token.user_name.view(),
-      std::string_view(reinterpret_cast<const char*>(password.data()), password.size()));
+  auto user =
+      users->authenticate(token.user_name.view(),
+                          std::string_view(reinterpret_cast<const char*>(password.data()), password.size()));
   std::fill(password.begin(), password.end(), 0);
   if (!user) {
     return user.error();
@@ -116,7 +117,8 @@ Result<SessionIdentity> certificate(const ServerSecurity& security,
                                     const Session& session, const X509IdentityToken& token,
                                     const SignatureData& signature, const Clock& clock) {
   const UserTokenPolicy* policy = find_token_policy(policies, token.policy_id, UserTokenType::Certificate);
-  if (policy == nullptr || !security.users) {
+  const auto users = security.current_users();
+  if (policy == nullptr || !users) {
     return status_error(status::BadIdentityTokenRejected,
                         "certificate tokens are not accepted on this endpoint");
   }
@@ -138,7 +140,7 @@ Result<SessionIdentity> certificate(const ServerSecurity& security,
     return status_error(status::BadIdentityTokenRejected,
                         fmt::format("user certificate '{}' is outside its validity period", info->subject));
   }
-  const sec::User* user = security.users->find_by_certificate(info->thumbprint);
+  const sec::User* user = users->find_by_certificate(info->thumbprint);
   if (user == nullptr) {
     return status_error(status::BadUserAccessDenied, fmt::format("no user has the certificate '{}' ({})",
                                                                  info->subject, info->thumbprint));
@@ -253,7 +255,8 @@ std::shared_ptr<const UserContext> access_for(const ServerSecurity& security, co
   if (identity.token_type == UserTokenType::Anonymous && identity.roles.empty()) {
     return nullptr;
   }
-  const sec::UserDatabase& db = security.users ? *security.users : builtin_roles();
+  const auto users = security.current_users();
+  const sec::UserDatabase& db = users ? *users : builtin_roles();
   std::vector<sec::Role> roles;
   for (const auto& name : identity.roles) {
     if (const sec::Role* role = db.role(name)) {

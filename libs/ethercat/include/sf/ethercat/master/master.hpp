@@ -23,6 +23,7 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "sf/core/bytes.hpp"
@@ -30,11 +31,13 @@
 #include "sf/core/log.hpp"
 #include "sf/core/result.hpp"
 #include "sf/ethercat/link.hpp"
+#include "sf/ethercat/mailbox.hpp"
 #include "sf/ethercat/master/bus.hpp"
 #include "sf/ethercat/master/process_image.hpp"
 #include "sf/ethercat/master/slave_info.hpp"
 #include "sf/ethercat/master/statistics.hpp"
 #include "sf/ethercat/registers.hpp"
+#include "sf/ethercat/sdo_info.hpp"
 
 namespace sf::ethercat::master {
 
@@ -100,6 +103,12 @@ struct SlaveEvent {
 };
 using SlaveEventHandler = std::function<void(const SlaveEvent&)>;
 
+// What a slave answered to an SDO transfer: the value, or the abort it sent
+// (ETG.1000.6 §5.6.2.7). Transfers that got no usable answer (timeouts,
+// malformed messages) are the surrounding Result's error instead.
+template <typename T>
+using SdoAnswer = std::variant<T, SdoAbort>;
+
 // "0x001B Sync manager watchdog" (the text from al_status_codes.hpp).
 std::string describe_al_status_code(std::uint16_t code);
 
@@ -135,8 +144,16 @@ class Master {
 
   // ---- coe.cpp -------------------------------------------------------------
   // CoE SDO client (ETG.1000.6 §5.6.2): expedited, normal and segmented
-  // transfers are chosen by size. An SDO abort is an Errc::remote error whose
-  // message carries the abort code and its text.
+  // transfers are chosen by size. The *_answer forms return the slave's
+  // abort typed (the transfer itself worked, the slave refused); the others
+  // make it an Errc::remote error whose message carries the code and its text
+  // and whose protocol_code is {kSdoAbortTable, code}.
+  Result<SdoAnswer<Bytes>> sdo_upload_answer(std::size_t position, std::uint16_t index, std::uint8_t subindex,
+                                             bool complete_access = false);
+  // nullopt: the slave took the data.
+  Result<std::optional<SdoAbort>> sdo_download_answer(std::size_t position, std::uint16_t index,
+                                                      std::uint8_t subindex, ByteSpan data,
+                                                      bool complete_access = false);
   Result<Bytes> sdo_upload(std::size_t position, std::uint16_t index, std::uint8_t subindex,
                            bool complete_access = false);
   Status sdo_download(std::size_t position, std::uint16_t index, std::uint8_t subindex, ByteSpan data,
@@ -161,16 +178,32 @@ class Master {
     return sdo_download(position, index, subindex, buf);
   }
 
+  // ---- sdo_info.cpp ----------------------------------------------------------
+  // SDO Information (ETG.1000.6 §5.6.3): the indices in an OD list, an
+  // object's and an entry's description. An SDO Info Error is the slave's
+  // abort; a slave whose SII does not announce the service is refused here.
+  Result<SdoAnswer<std::vector<std::uint16_t>>> sdo_info_od_list(std::size_t position,
+                                                                 OdListType list = OdListType::All);
+  Result<SdoAnswer<ObjectDescription>> sdo_info_object(std::size_t position, std::uint16_t index);
+  Result<SdoAnswer<EntryDescription>> sdo_info_entry(std::size_t position, std::uint16_t index,
+                                                     std::uint8_t subindex, std::uint8_t value_info = 0);
+
   // ---- mailbox.cpp: raw mailbox messages over SM0 / SM1 ---------------------
   Status mailbox_write(std::size_t position, ByteSpan message);
   Result<Bytes> mailbox_read(std::size_t position, std::chrono::nanoseconds timeout);
   std::uint8_t next_mailbox_counter(std::size_t position);
   // Mailbox reads that were lost and fetched again with a repeat request.
   [[nodiscard]] std::uint64_t mailbox_repeats() const { return mailbox_repeats_; }
+  // The next CoE message from the slave that `wanted` accepts (a complete
+  // mailbox buffer); others (emergencies, stale answers) are skipped until
+  // the mailbox timeout. A mailbox error reply is an Errc::remote error.
+  Result<Bytes> read_coe_answer(std::size_t position, const std::function<bool(const CoeMessage&)>& wanted);
 
   // ---- pdo_mapping.cpp -----------------------------------------------------
   // The PDO mapping from CoE (0x1C12/0x1C13 and 0x16xx/0x1Axx) when the slave
-  // has a CoE mailbox, else from the SII RxPDO/TxPDO categories.
+  // has a CoE mailbox, else from the SII RxPDO/TxPDO categories; also from the
+  // SII when the slave aborts the read of 0x1C12/0x1C13 with 0x06020000
+  // (object does not exist: a fixed mapping).
   Result<PdoMapping> read_pdo_mapping(std::size_t position);
   Result<PdoMapping> read_pdo_mapping_coe(std::size_t position);
   Result<PdoMapping> read_pdo_mapping_sii(std::size_t position) const;
@@ -263,8 +296,10 @@ class Master {
   Status before_transition(std::size_t position, AlState from, AlState to);
   Status wait_state(std::size_t position, AlState target);
   Error state_error(std::size_t position, AlState target, const AlStatus& status);
+  // sdo_info.cpp: one request and its (reassembled) response
+  Result<SdoAnswer<SdoInfoMessage>> sdo_info_exchange(std::size_t position, const SdoInfoMessage& request,
+                                                      std::uint16_t index, std::uint8_t subindex);
   // mailbox.cpp
-  Result<bool> delivered(std::size_t position);
   Status repeat_request(std::size_t position, std::chrono::nanoseconds timeout);
   // configure.cpp
   Status layout_image();

@@ -46,9 +46,10 @@ struct UserIdentity {
 };
 
 // OPC 10000-4 §5.4.4: the endpoint matching `policy_uri` and `mode` (empty policy: the highest
-// securityLevel among the policies this stack implements, of `mode` unless that is None) with
-// the UA-TCP transport profile and a user token policy for `user`; BadSecurityPolicyRejected
-// when the server offers none that fits.
+// securityLevel among the policies this stack implements, of `mode` unless that is None; among
+// equal levels SignAndEncrypt before Sign, then the stronger policy) with the UA-TCP transport
+// profile and a user token policy for `user`; BadSecurityPolicyRejected when the server offers
+// none that fits.
 Result<EndpointDescription> select_endpoint(const std::vector<EndpointDescription>& endpoints,
                                             std::string_view policy_uri, MessageSecurityMode mode,
                                             UserTokenType user = UserTokenType::Anonymous);

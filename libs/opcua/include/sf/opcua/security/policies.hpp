@@ -58,13 +58,13 @@ Result<SignatureData> sign(std::string_view policy_uri, ByteSpan private_key, By
 Status verify(std::string_view policy_uri, const ByteString& certificate, ByteSpan data,
               const SignatureData& signature);
 
-// The legacy encrypted secret of user identity tokens (OPC 10000-4 §7.40.2.2, "legacy
+// The legacy encrypted secret of user identity tokens (OPC 10000-4 §7.41.2.2, "legacy
 // encrypted token secret format"): UInt32 length of secret + nonce, secret, server nonce,
 // encrypted with the asymmetric encryption of the policy for the (leaf of the) certificate.
 Result<ByteString> encrypt_secret(std::string_view policy_uri, const ByteString& certificate, ByteSpan secret,
                                   ByteSpan nonce);
-// The secret back; BadIdentityTokenInvalid when it does not decrypt, has the wrong layout or
-// carries another nonce.
+// The secret back; BadIdentityTokenInvalid when it does not decrypt, has the wrong layout,
+// carries another nonce or padding that is not zero (zero padding after the nonce is accepted).
 Result<Bytes> decrypt_secret(std::string_view policy_uri, ByteSpan private_key, ByteSpan cipher,
                              ByteSpan nonce);
 

@@ -23,6 +23,8 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -100,6 +102,30 @@ class UserDatabase {
   std::vector<User> users_;
   std::map<std::string, Role, std::less<>> roles_;
   std::map<std::string, Role, std::less<>> custom_roles_;  // from the file (written back by save)
+};
+
+// The users file of a running server, re-read when it changes (inode, size or modification time:
+// `opcua users add` replaces the file), as the PKI folders are, so that a user added or removed
+// counts from the next login without a restart. Sessions already activated keep their roles.
+// Thread-safe.
+class UsersFile {
+ public:
+  // Reads the file; a server refuses to start with a missing or broken one.
+  static Result<std::shared_ptr<UsersFile>> open(std::filesystem::path file);
+
+  // The users as the file says now. A file that no longer reads or parses leaves the last good
+  // users in force (the log says why).
+  std::shared_ptr<const UserDatabase> current();
+  [[nodiscard]] const std::filesystem::path& path() const { return file_; }
+
+ private:
+  explicit UsersFile(std::filesystem::path file) : file_(std::move(file)) {}
+  [[nodiscard]] std::string stamp() const;
+
+  std::filesystem::path file_;
+  std::mutex mutex_;
+  std::string stamp_;  // of the file current() last looked at
+  std::shared_ptr<const UserDatabase> users_;
 };
 
 }  // namespace sf::opcua::security

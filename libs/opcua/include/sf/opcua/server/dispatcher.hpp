@@ -41,6 +41,9 @@ class Dispatcher final : public ServiceHandler {
   void on_request(const std::shared_ptr<ServerChannel>& channel, std::uint32_t request_id,
                   Message request) override;
   void on_channel_closed(std::uint32_t channel_id) override;
+  [[nodiscard]] bool holds_session(std::uint32_t channel_id) const override {
+    return sessions_.has_activated_session(channel_id);
+  }
 
   // Before the server stops: sends the notifications the subscriptions hold (see
   // SubscriptionService::flush).

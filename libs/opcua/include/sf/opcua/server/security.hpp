@@ -7,6 +7,7 @@
 // FindServers; OPC 10000-4 §5.4); sessions only on the endpoints listed here.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,8 @@ struct ServerSecurity {
   std::shared_ptr<security::CertificateValidator> validator;
   // UserName and X509 users with their roles; nullptr: none (anonymous only).
   std::shared_ptr<const security::UserDatabase> users;
+  // Or the users of a file, re-read when it changes; replaces `users` when set.
+  std::shared_ptr<security::UsersFile> users_file;
   bool allow_anonymous = true;
   // The role of anonymous sessions; "" = no restriction beyond the nodes' own access levels.
   std::string anonymous_role;
@@ -44,6 +47,8 @@ struct ServerSecurity {
   static std::vector<EndpointSecurity> endpoints_for(const std::vector<std::string>& policy_uris,
                                                      const std::vector<MessageSecurityMode>& modes);
   [[nodiscard]] bool offers(std::string_view policy_uri, MessageSecurityMode mode) const;
+  // The users in force now (users_file's current users, else `users`; may be nullptr).
+  [[nodiscard]] std::shared_ptr<const security::UserDatabase> current_users() const;
 };
 
 // OPC 10000-4 §7.41: the user token policies of one endpoint (anonymous if allowed, UserName and
@@ -71,6 +76,9 @@ class RoleAccess final : public UserContext {
 
   const AddressSpace& space_;
   std::vector<security::Role> roles_;
+  // Per permission: a role whose first pattern is "*" grants it for every node, so the node's
+  // text (formatted per call) is not needed.
+  std::array<bool, 3> grants_all_{};
 };
 
 }  // namespace sf::opcua::server

@@ -92,6 +92,8 @@ class SessionManager {
   std::vector<NodeId> expire();
 
   [[nodiscard]] std::size_t size() const { return sessions_.size(); }
+  // Whether an activated session is bound to the channel.
+  [[nodiscard]] bool has_activated_session(std::uint32_t channel_id) const;
   [[nodiscard]] const SessionLimits& limits() const { return limits_; }
   // The nearest time a session may expire (for the caller's timer).
   [[nodiscard]] Clock::time_point next_expiry() const;

@@ -52,14 +52,27 @@ class ServiceHandler {
                           Message request) = 0;
   // The channel is gone (CLO, error, lost connection, stop()).
   virtual void on_channel_closed(std::uint32_t channel_id) { (void)channel_id; }
+  // Whether an activated session uses the channel: the transport never evicts such a channel
+  // to make room for a new connection.
+  [[nodiscard]] virtual bool holds_session(std::uint32_t channel_id) const {
+    (void)channel_id;
+    return false;
+  }
 };
 
 struct ServerTransportConfig {
   std::string host = "0.0.0.0";
   std::uint16_t port = 4840;  // 0 = any free port
   TransportLimits limits;
-  std::size_t max_channels = 100;                  // beyond: ERR BadTcpNotEnoughResources, close
-  std::chrono::milliseconds hello_timeout{10000};  // connection without HEL/OPN is closed
+  // Connections (with a secure channel or on their way to one). When all are taken, a new
+  // connection takes the place of the oldest one that has not opened a channel, else of the
+  // oldest channel without an activated session (ServiceHandler::holds_session); when every
+  // channel holds a session it gets ERR BadTcpNotEnoughResources. Idle connections therefore
+  // cannot lock real clients out.
+  std::size_t max_channels = 100;
+  // The same rule among the connections of one source address (0: only max_channels).
+  std::size_t max_channels_per_address = 50;
+  std::chrono::milliseconds hello_timeout{3000};  // connection without HEL/OPN is closed
   std::uint32_t max_token_lifetime_ms = 3'600'000;
   std::uint32_t min_token_lifetime_ms = 10'000;
   // Limits for decoding request bodies.

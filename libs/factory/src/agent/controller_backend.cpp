@@ -1,0 +1,56 @@
+#include <fmt/format.h>
+
+#include "sf/core/log.hpp"
+#include "sf/factory/contract_net.hpp"
+
+namespace sf::factory {
+
+Operation to_operation(const std::string& type, const std::vector<negotiation::Param>& params) {
+  Operation op;
+  op.type = type;
+  for (const auto& p : params) {
+    op.params[p.name] = p.value;
+  }
+  return op;
+}
+
+ControllerBackend::ControllerBackend(MachineController& controller) : controller_(&controller) {
+  controller_->on_job_end([this](const JobOutcome& outcome) {
+    if (contractor_ == nullptr) {
+      return;
+    }
+    if (auto st = contractor_->report(outcome.job, outcome.ok, outcome.detail); !st) {
+      log::get("factory")->warn("{}: {}", controller_->identification().name, st.error().message);
+    }
+  });
+}
+
+std::optional<negotiation::WorkEstimate> ControllerBackend::estimate(
+    const std::string& operation, const std::vector<negotiation::Param>& params, std::string& why_not) {
+  auto e = controller_->estimate(to_operation(operation, params), &why_not);
+  if (!e) {
+    return std::nullopt;
+  }
+  return negotiation::WorkEstimate{e->start_in, e->duration, e->queue_length};
+}
+
+Status ControllerBackend::start(const negotiation::Job& job, const std::vector<negotiation::Param>& params) {
+  return controller_->submit(job.conversation, to_operation(job.operation, params));
+}
+
+void ControllerBackend::abort(const negotiation::Job& job, const std::string& why) {
+  if (auto st = controller_->cancel(job.conversation); !st) {
+    log::get("factory")->info("{}: cancelling {} ({}): {}", controller_->identification().name,
+                              job.conversation, why, st.error().message);
+  }
+}
+
+std::vector<negotiation::Skill> ControllerBackend::skills() const {
+  std::vector<negotiation::Skill> out;
+  for (const auto& op : controller_->operations()) {
+    out.push_back(negotiation::Skill{op, std::chrono::seconds{1}, 1.0});
+  }
+  return out;
+}
+
+}  // namespace sf::factory

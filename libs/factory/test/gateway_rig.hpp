@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -64,7 +65,12 @@ class GatewayRig {
     for (auto& g : gateways_) {
       (void)g->poll(clock_.now());
     }
+    for (auto& f : after_step_) {
+      f();
+    }
   }
+  // Runs `f` at the end of every step (what else the test drives on this clock).
+  void after_step(std::function<void()> f) { after_step_.push_back(std::move(f)); }
   template <typename F>
   bool run_until(F done, std::chrono::milliseconds limit) {
     const auto end = clock_.now() + limit;
@@ -122,6 +128,22 @@ class GatewayRig {
     ASSERT_TRUE(plant_->clear(*f));
   }
 
+  // Whether box `id` stands in place at `station` ("conveyor3/toshiba").
+  bool at(std::uint16_t id, std::string_view station) const {
+    auto s = line::find_station(plant_->layout(), station);
+    const plant::Box* b = plant_->world().box(id);
+    return s && b != nullptr && plant_->world().box_in_place(s->belt, s->station) == b;
+  }
+  Gateway& gateway(std::string_view machine) {
+    for (auto& g : gateways_) {
+      if (g->config().machine == machine) {
+        return *g;
+      }
+    }
+    ADD_FAILURE() << "no gateway " << machine;
+    return *gateways_.front();
+  }
+
   ManualClock& clock() { return clock_; }
   plant::Plant& plant() { return *plant_; }
   plant::World& world() { return plant_->world(); }
@@ -132,6 +154,7 @@ class GatewayRig {
   std::vector<std::unique_ptr<modbus::MemoryClient>> clients_;
   std::vector<std::unique_ptr<Gateway>> gateways_;
   std::map<std::string, JobOutcome> outcomes_;
+  std::vector<std::function<void()>> after_step_;
 };
 
 inline bool has_tag(const ControllerStatus& status, std::string_view name) {

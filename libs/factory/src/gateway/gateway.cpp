@@ -124,12 +124,33 @@ std::vector<TransportSegment> Gateway::segments() const {
 
 // --- the Contract Net's side ------------------------------------------------
 
-std::optional<std::string> Gateway::refusal(const Operation& op) const {
+std::string_view Gateway::link_state() const {
+  switch (link_) {
+    case Link::up:
+      return "up";
+    case Link::stale:
+      return "stale";
+    case Link::lost:
+      return "lost";
+    case Link::unknown:
+      break;
+  }
+  return "unknown";
+}
+
+std::optional<std::string> Gateway::unavailable() const {
   if (link_ != Link::up) {
     return link_error_;
   }
   if (unit_.state() != S::Execute) {
     return fmt::format("{} is in {}", config_.machine, to_string(unit_.state()));
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> Gateway::refusal(const Operation& op) const {
+  if (auto why = unavailable()) {
+    return why;
   }
   const auto ops = operations();
   if (std::find(ops.begin(), ops.end(), op.type) == ops.end()) {

@@ -82,6 +82,12 @@ class Gateway final : public MachineController {
   [[nodiscard]] std::vector<TransportSegment> segments() const;
   // The device answered the last poll.
   [[nodiscard]] bool link_up() const { return link_ == Link::up; }
+  // "up", "stale" (no answer, values still fresh), "lost", or "unknown" before the first poll.
+  [[nodiscard]] std::string_view link_state() const;
+  // Why the gateway takes no work now (its device unreachable, not in Execute), if it does not.
+  [[nodiscard]] std::optional<std::string> unavailable() const;
+  // The estimated work still ahead of a job submitted now (the job in work and the queue).
+  [[nodiscard]] std::chrono::nanoseconds backlog() const;
 
  private:
   enum class Link : std::uint8_t { unknown, up, stale, lost };
@@ -105,7 +111,6 @@ class Gateway final : public MachineController {
   [[nodiscard]] std::string aborted() const;
   void flush_outcomes();
   [[nodiscard]] std::optional<std::string> refusal(const Operation& op) const;
-  [[nodiscard]] std::chrono::nanoseconds backlog() const;
 
   GatewayConfig config_;
   line::Layout layout_;

@@ -51,13 +51,8 @@ void add_layout_option(CLI::App& cmd, DdsCliOptions& o) {
 }
 
 cnp::DdsSettings dds_settings(const DdsCliOptions& o) {
-  cnp::DdsSettings s;
-  s.machining_domain = o.machining_domain;
-  s.conveying_domain = o.conveying_domain;
-  s.partition = o.partition;
-  s.network = o.interface == "lo" ? dds::loopback_network() : dds::interface_network(o.interface);
-  s.liveliness_lease = std::chrono::milliseconds{o.lease_ms};
-  return s;
+  return cnp::agent_settings(o.machining_domain, o.conveying_domain, o.partition, o.interface,
+                             std::chrono::milliseconds{o.lease_ms});
 }
 
 void emit(json event) {

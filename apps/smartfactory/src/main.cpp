@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_KB
   sf::app::register_kb(app, result);
 #endif
+#ifdef SF_HAVE_GATEWAY
+  sf::app::register_gateway(app, result);
+#endif
 
   try {
     app.parse(argc, argv);

@@ -61,3 +61,18 @@ void log_status(const log::Logger& log, const Status& st, std::string_view what)
 }
 
 }  // namespace sf::negotiation::detail
+
+namespace sf::negotiation {
+
+DdsSettings agent_settings(dds::DomainId machining, dds::DomainId conveying, std::string partition,
+                           const std::string& interface, std::chrono::nanoseconds lease) {
+  DdsSettings s;
+  s.machining_domain = machining;
+  s.conveying_domain = conveying;
+  s.partition = std::move(partition);
+  s.network = interface == "lo" ? dds::loopback_network() : dds::interface_network(interface);
+  s.liveliness_lease = lease;
+  return s;
+}
+
+}  // namespace sf::negotiation

@@ -42,13 +42,29 @@ Status parse_modbus(const Node& n, ModbusEndpoint& m) {
   return {};
 }
 
-Status parse_dds(const Node& n, DdsSettings& d) {
-  SF_TRY(n.only_keys({"domain", "interface"}));
-  SF_TRY(n.read("domain", d.domain));
-  if (d.domain > 232) {  // DDSI-RTPS 2.5 §9.6.1.1: the port arithmetic leaves 0..232
-    return n.child("domain")->error("a DDS domain id is 0..232");
+Status parse_dds(const Node& n, DdsOptions& d) {
+  SF_TRY(n.only_keys({"machining_domain", "conveying_domain", "interface", "partition", "lease_ms"}));
+  for (auto [key, domain] :
+       {std::pair<std::string_view, std::uint32_t*>{"machining_domain", &d.machining_domain},
+        {"conveying_domain", &d.conveying_domain}}) {
+    SF_TRY(n.read(key, *domain));
+    if (*domain > 232) {  // DDSI-RTPS 2.5 §9.6.1.1: the port arithmetic leaves 0..232
+      return n.child(key)->error("a DDS domain id is 0..232");
+    }
   }
-  return n.read("interface", d.interface);
+  SF_TRY(n.read("interface", d.interface));
+  SF_TRY(n.read("partition", d.partition));
+  for (auto [key, text] :
+       {std::pair<std::string_view, std::string*>{"interface", &d.interface}, {"partition", &d.partition}}) {
+    if (text->empty()) {
+      return n.child(key)->error(fmt::format("{} must not be empty", key));
+    }
+  }
+  SF_TRY(read_duration(n, "lease_ms", kMs, d.lease));
+  if (d.lease < std::chrono::milliseconds{50}) {
+    return n.child("lease_ms")->error("a lease shorter than 50 ms would declare a busy gateway dead");
+  }
+  return {};
 }
 
 Status parse_robot(const Node& n, RobotProgram& r) {

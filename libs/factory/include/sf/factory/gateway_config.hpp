@@ -19,7 +19,12 @@
 //     poll_period_ms: 20
 //     stale_after_ms: 1000            # values read this long ago turn from Uncertain to Bad
 //   opcua: {port: 4841}               # carried through for the OPC UA server
-//   dds: {domain: 0, interface: lo}   # carried through for the DDS agent
+//   dds:                              # the Contract Net (paper §IV.B)
+//     machining_domain: 10            # DDS domain ids, 0..232
+//     conveying_domain: 11
+//     interface: lo                   # lo: loopback only; a NIC name or address: multicast discovery
+//     partition: smartfactory         # one per plant on a network
+//     lease_ms: 1000                  # a gateway silent this long is presumed dead by the products
 //   robot:                            # legacy-robot only: the controller's taught program
 //     station: conveyor3/toshiba      # where it loads boxes (default: its first station)
 //     approach_m: 0.05                # above pick and place points
@@ -52,9 +57,12 @@ struct ModbusEndpoint {
   std::chrono::milliseconds stale_after{1000};
 };
 
-struct DdsSettings {
-  std::uint32_t domain = 0;
-  std::string interface;  // empty: Cyclone's default
+struct DdsOptions {
+  std::uint32_t machining_domain = 10;
+  std::uint32_t conveying_domain = 11;
+  std::string interface = "lo";
+  std::string partition = "smartfactory";
+  std::chrono::milliseconds lease{1000};
 };
 
 // A legacy robot controller's own program: its moves as taught on the
@@ -77,7 +85,7 @@ struct GatewayConfig {
   std::chrono::milliseconds job_timeout{10000};
   ModbusEndpoint modbus;
   std::uint16_t opcua_port = 4840;
-  DdsSettings dds;
+  DdsOptions dds;
   RobotProgram robot;
 };
 

@@ -47,6 +47,11 @@ struct DdsSettings {
   std::int32_t history_depth = 16;
 };
 
+// The settings of agents that meet in these domains and partition on `interface` ("lo": loopback
+// only, unicast discovery; otherwise that NIC or address, with multicast discovery).
+DdsSettings agent_settings(dds::DomainId machining, dds::DomainId conveying, std::string partition,
+                           const std::string& interface, std::chrono::nanoseconds lease);
+
 class ProductEndpoints final : public ManagerTransport, public RouteTransport {
  public:
   // `conveying`: also join the ConveyingDomain (for route negotiation). `clock` times the

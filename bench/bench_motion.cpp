@@ -28,6 +28,7 @@
 
 #include <fmt/format.h>
 
+#include "sf/bench/percentile.hpp"
 #include "sf/motion/cartesian_path.hpp"
 #include "sf/motion/csp_sampler.hpp"
 #include "sf/motion/testing/scara_cell.hpp"
@@ -130,8 +131,7 @@ double median_us_per_call(int rounds, int calls, F&& f) {
     }
     samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / calls);
   }
-  std::nth_element(samples.begin(), samples.begin() + static_cast<long>(samples.size() / 2), samples.end());
-  return samples[samples.size() / 2];
+  return sf::bench::percentile(std::move(samples), 0.5);
 }
 
 }  // namespace

@@ -51,8 +51,8 @@ void add_layout_option(CLI::App& cmd, DdsCliOptions& o) {
 }
 
 cnp::DdsSettings dds_settings(const DdsCliOptions& o) {
-  return cnp::agent_settings(o.machining_domain, o.conveying_domain, o.partition, o.interface,
-                             std::chrono::milliseconds{o.lease_ms});
+  return cnp::dds_settings(o.machining_domain, o.conveying_domain, o.partition, o.interface,
+                           std::chrono::milliseconds{o.lease_ms});
 }
 
 void emit(json event) {

@@ -70,22 +70,23 @@ void print_ready(const fy::GatewayProcess& p, bool as_json) {
   const auto r = p.report();
   if (as_json) {
     std::cout << json{{"event", "ready"},
-                      {"machine", c.machine},
+                      {"machine", c.controller.machine},
                       {"kind", fy::to_string(c.kind)},
                       {"endpoint", r.endpoint},
                       {"poll_period_ms", c.modbus.poll_period.count()},
                       {"operations", g.operations()},
-                      {"machining_domain", c.dds.machining_domain},
-                      {"conveying_domain", c.dds.conveying_domain},
+                      {"machining_domain", c.controller.dds.machining_domain},
+                      {"conveying_domain", c.controller.dds.conveying_domain},
                       {"segments", segments_json(g)}}
                      .dump()
               << std::endl;
     return;
   }
-  std::cout << fmt::format("gateway {} ({}, {} {}): PLC {} every {} ms; DDS domains {}/{} on {}\n", c.machine,
-                           fy::to_string(c.kind), r.identification.manufacturer, r.identification.model,
-                           r.endpoint, c.modbus.poll_period.count(), c.dds.machining_domain,
-                           c.dds.conveying_domain, c.dds.interface);
+  std::cout << fmt::format("gateway {} ({}, {} {}): PLC {} every {} ms; DDS domains {}/{} on {}\n",
+                           c.controller.machine, fy::to_string(c.kind), r.identification.manufacturer,
+                           r.identification.model, r.endpoint, c.modbus.poll_period.count(),
+                           c.controller.dds.machining_domain, c.controller.dds.conveying_domain,
+                           c.controller.dds.interface);
   for (const auto& s : g.segments()) {
     std::cout << fmt::format("  segment {} -> {} ({:.3f} s)\n", s.from, s.to,
                              std::chrono::duration<double>(s.transit_time).count());
@@ -134,7 +135,7 @@ int run_gateway(const GatewayOptions& o) {
   }
   if (o.check) {
     std::cout << fmt::format("{}: {} gateway for {} is valid\n", o.config, fy::to_string(setup->config.kind),
-                             setup->config.machine);
+                             setup->config.controller.machine);
     return kExitOk;
   }
   auto& clock = SteadyClock::instance();

@@ -1,8 +1,8 @@
 // Gateway configurations: every key read, errors that name file:line:column
 // and the key, configurations that do not fit their layout refused, and the
 // example configurations in configs/gateways/ valid for the default layout.
-#include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -33,20 +33,20 @@ robot: {station: conveyor3/toshiba, approach_m: 0.04, grip_s: 0.2}
   ASSERT_TRUE(setup) << setup.error().describe();
   const GatewayConfig& c = setup->config;
   EXPECT_EQ(c.kind, GatewayKind::legacy_robot);
-  EXPECT_TRUE(c.auto_start);
-  EXPECT_EQ(c.job_timeout, 4s);
+  EXPECT_TRUE(c.controller.auto_start);
+  EXPECT_EQ(c.controller.job_timeout, 4s);
   EXPECT_EQ(c.modbus.host, "plc.local");
   EXPECT_EQ(c.modbus.port, 1510);
   EXPECT_EQ(c.modbus.unit_id, 1);
   EXPECT_EQ(c.modbus.timeout, 300ms);
   EXPECT_EQ(c.modbus.poll_period, 10ms);
   EXPECT_EQ(c.modbus.stale_after, 800ms);
-  EXPECT_EQ(c.opcua_port, 4842);
-  EXPECT_EQ(c.dds.machining_domain, 20U);
-  EXPECT_EQ(c.dds.conveying_domain, 21U);
-  EXPECT_EQ(c.dds.interface, "eth1");
-  EXPECT_EQ(c.dds.partition, "line-2");
-  EXPECT_EQ(c.dds.lease, 500ms);
+  EXPECT_EQ(c.controller.opcua_port, 4842);
+  EXPECT_EQ(c.controller.dds.machining_domain, 20U);
+  EXPECT_EQ(c.controller.dds.conveying_domain, 21U);
+  EXPECT_EQ(c.controller.dds.interface, "eth1");
+  EXPECT_EQ(c.controller.dds.partition, "line-2");
+  EXPECT_EQ(c.controller.dds.lease, 500ms);
   EXPECT_EQ(c.robot.grip, 200ms);
 }
 
@@ -54,9 +54,9 @@ TEST(GatewayConfig, DefaultsArePaperLike) {
   auto setup = parse_gateway_config("machine: conveyor2\nkind: conveyor\n");
   ASSERT_TRUE(setup) << setup.error().describe();
   EXPECT_EQ(setup->config.modbus.poll_period, 20ms);  // the default poll period
-  EXPECT_FALSE(setup->config.auto_start);             // an operator starts it
-  EXPECT_EQ(setup->config.dds.machining_domain, 10U);
-  EXPECT_EQ(setup->config.dds.interface, "lo");
+  EXPECT_FALSE(setup->config.controller.auto_start);  // an operator starts it
+  EXPECT_EQ(setup->config.controller.dds.machining_domain, 10U);
+  EXPECT_EQ(setup->config.controller.dds.interface, "lo");
 }
 
 TEST(GatewayConfig, ErrorsNameFileLineColumnAndKey) {
@@ -69,7 +69,7 @@ TEST(GatewayConfig, ErrorsNameFileLineColumnAndKey) {
   EXPECT_EQ(error_of("machine: conveyor2\nkind: conveyor\ndds:\n  machining_domain: 300\n"),
             "gw.yaml:4:21: dds.machining_domain: a DDS domain id is 0..232");
   EXPECT_EQ(error_of("machine: conveyor2\nkind: conveyor\ndds: {lease_ms: 10}\n"),
-            "gw.yaml:3:17: dds.lease_ms: a lease shorter than 50 ms would declare a busy gateway dead");
+            "gw.yaml:3:17: dds.lease_ms: a lease shorter than 50 ms would declare a busy controller dead");
 }
 
 TEST(GatewayConfig, ConfigurationsThatDoNotFitTheLayoutAreRefused) {
@@ -95,11 +95,8 @@ TEST(GatewayConfig, ConfigurationsThatDoNotFitTheLayoutAreRefused) {
 
 // Each device kind's example runs against the default layout as it is.
 TEST(GatewayConfig, TheExampleConfigurationsAreValid) {
-  const char* source = std::getenv("SF_SOURCE_DIR");
-  ASSERT_NE(source, nullptr) << "SF_SOURCE_DIR (set by ctest)";
   std::set<GatewayKind> kinds;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(std::filesystem::path(source) / "configs/gateways")) {
+  for (const auto& entry : std::filesystem::directory_iterator(SF_SOURCE_DIR "/configs/gateways")) {
     auto setup = load_gateway_config(entry.path());
     ASSERT_TRUE(setup) << setup.error().describe();
     EXPECT_NE(setup->config.modbus.port, 0)

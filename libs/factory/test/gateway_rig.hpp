@@ -136,7 +136,7 @@ class GatewayRig {
   }
   Gateway& gateway(std::string_view machine) {
     for (auto& g : gateways_) {
-      if (g->config().machine == machine) {
+      if (g->config().controller.machine == machine) {
         return *g;
       }
     }

@@ -64,11 +64,12 @@ void log_status(const log::Logger& log, const Status& st, std::string_view what)
 
 namespace sf::negotiation {
 
-DdsSettings agent_settings(dds::DomainId machining, dds::DomainId conveying, std::string partition,
-                           const std::string& interface, std::chrono::nanoseconds lease) {
+DdsSettings dds_settings(dds::DomainId machining_domain, dds::DomainId conveying_domain,
+                         std::string partition, const std::string& interface,
+                         std::chrono::nanoseconds lease) {
   DdsSettings s;
-  s.machining_domain = machining;
-  s.conveying_domain = conveying;
+  s.machining_domain = machining_domain;
+  s.conveying_domain = conveying_domain;
   s.partition = std::move(partition);
   s.network = interface == "lo" ? dds::loopback_network() : dds::interface_network(interface);
   s.liveliness_lease = lease;

@@ -3,7 +3,7 @@
 // counter) and cleared.
 #include "sf/plant/faults.hpp"
 
-#include "rig.hpp"
+#include "sf/plant/testing/rig.hpp"
 
 namespace sf::plant::testing {
 namespace {

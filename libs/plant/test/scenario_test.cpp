@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rig.hpp"
+#include "sf/plant/testing/rig.hpp"
 
 namespace sf::plant::testing {
 namespace {

@@ -1,22 +1,8 @@
 #include "sf/ethercat/master/cyclic_runner.hpp"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/mman.h>
+#include "sf/core/realtime.hpp"
 
 namespace sf::ethercat::master {
-namespace {
-
-// SCHED_FIFO and locked memory keep page faults and other processes out of
-// the cycle; without CAP_SYS_NICE / CAP_IPC_LOCK we run as a normal thread.
-bool try_realtime(std::thread& t, int priority) {
-  (void)mlockall(MCL_CURRENT | MCL_FUTURE);
-  sched_param param{};
-  param.sched_priority = priority;
-  return pthread_setschedparam(t.native_handle(), SCHED_FIFO, &param) == 0;
-}
-
-}  // namespace
 
 Status CyclicRunner::start(Callback on_cycle) {
   if (running_.exchange(true)) {

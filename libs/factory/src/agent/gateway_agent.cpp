@@ -27,10 +27,10 @@ Result<std::unique_ptr<GatewayRoles>> GatewayRoles::create(Gateway& gateway,
   if (conveyor != (conveying != nullptr)) {
     return make_error(Errc::invalid_argument,
                       fmt::format("{}: a conveyor's gateway, and only one, answers transport REQUESTs",
-                                  gateway.config().machine));
+                                  gateway.config().controller.machine));
   }
   auto roles = std::unique_ptr<GatewayRoles>(new GatewayRoles(gateway));
-  negotiation::ContractorConfig config{gateway.config().machine, roles->backend_.skills()};
+  negotiation::ContractorConfig config{gateway.config().controller.machine, roles->backend_.skills()};
   config.backend = &roles->backend_;
   auto contractor = negotiation::Contractor::create(machining, clock, std::move(config));
   if (!contractor) {
@@ -39,8 +39,8 @@ Result<std::unique_ptr<GatewayRoles>> GatewayRoles::create(Gateway& gateway,
   roles->contractor_.emplace(std::move(*contractor));
   roles->backend_.bind(*roles->contractor_);
   if (conveyor) {
-    auto c = negotiation::Conveyor::create(*conveying, clock,
-                                           {gateway.config().machine, {}, {}, {}, &roles->segments_});
+    auto c = negotiation::Conveyor::create(
+        *conveying, clock, {gateway.config().controller.machine, {}, {}, {}, &roles->segments_});
     if (!c) {
       return c.error();
     }
@@ -53,7 +53,7 @@ Result<std::unique_ptr<GatewayAgent>> GatewayAgent::create(Gateway& gateway,
                                                            const negotiation::DdsSettings& settings,
                                                            dds::Executor& executor, const Clock& clock) {
   auto agent = std::unique_ptr<GatewayAgent>(new GatewayAgent(gateway, clock));
-  const std::string& name = gateway.config().machine;
+  const std::string& name = gateway.config().controller.machine;
   auto machining =
       negotiation::MachineEndpoints::create(settings, name, gateway.operations(), executor, clock);
   if (!machining) {

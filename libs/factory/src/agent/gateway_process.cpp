@@ -5,11 +5,6 @@
 
 namespace sf::factory {
 
-negotiation::DdsSettings dds_settings(const DdsOptions& o) {
-  return negotiation::agent_settings(o.machining_domain, o.conveying_domain, o.partition, o.interface,
-                                     o.lease);
-}
-
 Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setup, const Clock& clock) {
   auto options = tcp_options(setup);
   if (!options) {
@@ -21,8 +16,9 @@ Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setu
   }
   auto process =
       std::unique_ptr<GatewayProcess>(new GatewayProcess(std::move(setup), std::move(*client), clock));
-  auto agent = GatewayAgent::create(*process->gateway_, dds_settings(process->gateway_->config().dds),
-                                    process->executor_, clock);
+  auto agent =
+      GatewayAgent::create(*process->gateway_, dds_settings(process->gateway_->config().controller.dds),
+                           process->executor_, clock);
   if (!agent) {
     return agent.error();
   }

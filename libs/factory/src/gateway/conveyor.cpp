@@ -31,7 +31,7 @@ class ConveyorLogic final : public DeviceLogic {
   explicit ConveyorLogic(const LogicContext& c)
       : config_(c.config),
         layout_(c.layout),
-        belt_(*c.layout.belt_index(c.config.machine)),
+        belt_(*c.layout.belt_index(c.config.controller.machine)),
         spec_(c.layout.belts[belt_]),
         places_(places(c.layout)) {}
 

@@ -20,7 +20,7 @@ using gateway::JobResult;
 const line::PlcSpec& device_of(const GatewayConfig& c, const line::Layout& layout) {
   switch (c.kind) {
     case GatewayKind::conveyor:
-      return layout.belt(c.machine)->plc;
+      return layout.belt(c.controller.machine)->plc;
     case GatewayKind::uploader:
       return layout.uploader.plc;
     case GatewayKind::downloader:
@@ -28,14 +28,14 @@ const line::PlcSpec& device_of(const GatewayConfig& c, const line::Layout& layou
     case GatewayKind::legacy_robot:
       break;
   }
-  return layout.robot(c.machine)->controller;
+  return layout.robot(c.controller.machine)->controller;
 }
 
 Identification identify(const GatewayConfig& c, const line::Layout& layout) {
-  Identification id{c.machine, std::string(to_string(c.kind)), {}, {}, c.serial_number};
+  Identification id{c.controller.machine, std::string(to_string(c.kind)), {}, {}, c.controller.serial_number};
   if (c.kind == GatewayKind::legacy_robot) {  // the machine is the arm, not its controller
-    id.manufacturer = layout.robot(c.machine)->vendor;
-    id.model = layout.robot(c.machine)->model;
+    id.manufacturer = layout.robot(c.controller.machine)->vendor;
+    id.model = layout.robot(c.controller.machine)->model;
   } else {
     id.manufacturer = device_of(c, layout).vendor;
     id.model = device_of(c, layout).model;
@@ -74,7 +74,7 @@ Gateway::Gateway(GatewayConfig config, line::Layout layout, modbus::Client& clie
       logic_(make_logic(config_, layout_)),
       io_(std::make_unique<gateway::PlcIo>(client, logic_->tag_prefix(), logic_->tags())),
       unit_(clock),
-      auto_start_pending_(config_.auto_start) {}
+      auto_start_pending_(config_.controller.auto_start) {}
 
 Gateway::~Gateway() = default;
 
@@ -86,7 +86,7 @@ std::vector<TransportSegment> Gateway::segments() const {
   if (config_.kind != GatewayKind::conveyor) {
     return {};
   }
-  return conveyor_segments(layout_, *layout_.belt_index(config_.machine));
+  return conveyor_segments(layout_, *layout_.belt_index(config_.controller.machine));
 }
 
 // --- the Contract Net's side ------------------------------------------------
@@ -110,7 +110,7 @@ std::optional<std::string> Gateway::unavailable() const {
     return link_error_;
   }
   if (unit_.state() != S::Execute) {
-    return fmt::format("{} is in {}", config_.machine, to_string(unit_.state()));
+    return fmt::format("{} is in {}", config_.controller.machine, to_string(unit_.state()));
   }
   return std::nullopt;
 }
@@ -121,20 +121,13 @@ std::optional<std::string> Gateway::refusal(const Operation& op) const {
   }
   const auto ops = operations();
   if (std::find(ops.begin(), ops.end(), op.type) == ops.end()) {
-    return fmt::format("{} does not do '{}'", config_.machine, op.type);
+    return fmt::format("{} does not do '{}'", config_.controller.machine, op.type);
   }
   return std::nullopt;
 }
 
 std::chrono::nanoseconds Gateway::backlog() const {
-  std::chrono::nanoseconds total{0};
-  if (current_) {
-    total += std::max(std::chrono::nanoseconds{0}, current_->estimate - current_->active);
-  }
-  for (const Job& j : queue_) {
-    total += j.estimate;
-  }
-  return total;
+  return jobs_.backlog();
 }
 
 std::optional<Estimate> Gateway::estimate(const Operation& op, std::string* why_not) const {
@@ -147,46 +140,27 @@ std::optional<Estimate> Gateway::estimate(const Operation& op, std::string* why_
     }
     return std::nullopt;
   }
-  return Estimate{backlog(), *duration, static_cast<std::uint32_t>(queue_.size() + (current_ ? 1 : 0))};
+  return Estimate{backlog(), *duration, jobs_.length()};
 }
 
 Status Gateway::submit(const std::string& job, const Operation& op) {
-  const bool taken = (current_ && current_->id == job) ||
-                     std::any_of(queue_.begin(), queue_.end(), [&](const Job& j) { return j.id == job; });
-  if (job.empty() || taken) {
-    return make_error(Errc::invalid_argument, fmt::format("job id '{}' is empty or already in use", job));
-  }
   std::string why;
-  auto e = estimate(op, &why);
-  if (!e) {
-    return make_error(Errc::state, fmt::format("{} declines {}: {}", config_.machine, op.type, why));
-  }
-  queue_.push_back(Job{job, op, e->duration});
-  return {};
+  const auto e = estimate(op, &why);
+  return jobs_.admit(config_.controller.machine, job, op, e, why);
 }
 
 Status Gateway::cancel(const std::string& job) {
-  if (current_ && current_->id == job) {
-    current_->cancel = true;  // ends at the next poll, once no step runs on the device
-    return {};
+  // A job in work ends at the next poll, once no step runs on the device.
+  if (auto st = jobs_.cancel(job); !st) {
+    return st.error().with_context(config_.controller.machine);
   }
-  auto it = std::find_if(queue_.begin(), queue_.end(), [&](const Job& j) { return j.id == job; });
-  if (it == queue_.end()) {
-    return make_error(Errc::not_found, fmt::format("{} has no job '{}'", config_.machine, job));
-  }
-  outcomes_.push_back({job, false, "cancelled before it started", {}});
-  queue_.erase(it);
   return {};
 }
 
 // --- operators --------------------------------------------------------------
 
 Status Gateway::command(PackMLCommand command) {
-  std::optional<StopReason> why;
-  if (command == PackMLCommand::Stop || command == PackMLCommand::Hold || command == PackMLCommand::Abort) {
-    why = StopReason{kStopOperator, fmt::format("operator: {}", to_string(command)), {}};
-  }
-  SF_TRY(unit_.command(command, std::move(why)));
+  SF_TRY(unit_.command(command, operator_stop_reason(command)));
   auto_start_pending_ = false;  // an operator has taken over
   held_by_link_ = false;
   return {};
@@ -195,11 +169,7 @@ Status Gateway::command(PackMLCommand command) {
 ControllerStatus Gateway::status() const {
   ControllerStatus s;
   s.packml = unit_.status();
-  if (current_) {
-    s.job = current_->id;
-    s.operation = current_->op;
-  }
-  s.queued = static_cast<std::uint32_t>(queue_.size());
+  jobs_.show(s);
   s.fault = link_ == Link::up ? logic_->fault_text(*io_) : link_error_;
   switch (link_) {
     case Link::up:
@@ -261,7 +231,7 @@ void Gateway::link_failed(const modbus::ClientError& error) {
   const Link before = link_;
   link_exception_ = error.code == Errc::remote;
   link_error_ =
-      fmt::format("{} {}: {}", config_.machine,
+      fmt::format("{} {}: {}", config_.controller.machine,
                   link_exception_ ? "answers with a Modbus exception" : "does not answer", error.describe());
   const bool fresh = io_->has_values() && clock_->now() - last_good_ < config_.modbus.stale_after;
   link_ = fresh ? Link::stale : Link::lost;
@@ -283,14 +253,7 @@ void Gateway::link_changed(Link before) {
 }
 
 void Gateway::auto_start() {
-  if (!auto_start_pending_) {
-    return;
-  }
-  if (unit_.state() == S::Stopped) {
-    (void)unit_.command(PackMLCommand::Reset);
-  } else if (unit_.state() == S::Idle) {
-    (void)unit_.command(PackMLCommand::Start);
-  } else if (unit_.state() == S::Execute) {
+  if (auto_start_pending_ && unit_.advance_to_execute()) {
     auto_start_pending_ = false;
   }
 }
@@ -335,7 +298,7 @@ void Gateway::run_unit(std::chrono::nanoseconds dt) {
       (void)unit_.state_complete();
       return;
     default:  // wait states: follow what still runs on the device, start nothing
-      if (current_) {
+      if (jobs_.current() != nullptr) {
         work(false, dt);
       }
       return;
@@ -367,28 +330,27 @@ std::string Gateway::aborted() const {
 }
 
 void Gateway::work(bool go, std::chrono::nanoseconds dt) {
-  if (!current_) {
-    if (!go || queue_.empty()) {
+  if (jobs_.current() == nullptr) {
+    if (!go || !jobs_.begin_next()) {
       return;
     }
-    current_ = std::move(queue_.front());
-    queue_.pop_front();
-    logic_->begin(current_->op);
+    logic_->begin(jobs_.current()->op);
     dt = std::chrono::nanoseconds{0};
   }
-  const bool proceed = go && !current_->cancel;
+  QueuedJob& current = *jobs_.current();
+  const bool proceed = go && !current.cancel;
   if (proceed) {
-    current_->active += dt;
-    if (current_->active > current_->estimate + config_.job_timeout) {
+    current.active += dt;
+    if (current.active > current.estimate + config_.controller.job_timeout) {
       logic_->halt(*io_);
-      const auto late = std::chrono::duration<double>(current_->active - current_->estimate).count();
+      const auto late = std::chrono::duration<double>(current.active - current.estimate).count();
       return end_current(logic_->interrupted(fmt::format("timed out ({:.1f} s over its estimate)", late)));
     }
   }
   if (auto result = logic_->step(*io_, proceed)) {
     return end_current(std::move(*result));
   }
-  if (current_->cancel && logic_->settled()) {
+  if (current.cancel && logic_->settled()) {
     logic_->halt(*io_);
     end_current(logic_->interrupted("cancelled"));
   }
@@ -396,27 +358,22 @@ void Gateway::work(bool go, std::chrono::nanoseconds dt) {
 
 void Gateway::end_current(JobResult result) {
   unit_.count(result.ok);
-  outcomes_.push_back({current_->id, result.ok, std::move(result.detail), std::move(result.results)});
-  current_.reset();
+  jobs_.finish(result.ok, std::move(result.detail), std::move(result.results));
   if (result.machine_fault) {
     unit_.fault(*result.machine_fault);
   }
 }
 
 void Gateway::drop_all(const std::string& why) {
-  if (current_) {
+  if (jobs_.current() != nullptr) {
     end_current(logic_->interrupted(why));
   }
-  for (Job& j : queue_) {
-    outcomes_.push_back({j.id, false, fmt::format("{} before it started", why), {}});
-  }
-  queue_.clear();
+  jobs_.drop_queued(why);
 }
 
 void Gateway::flush_outcomes() {
   // Callbacks may submit or cancel: they see a gateway whose state is complete.
-  auto outcomes = std::exchange(outcomes_, {});
-  for (const auto& o : outcomes) {
+  for (const auto& o : jobs_.take_outcomes()) {
     job_ended(o);
   }
 }
@@ -425,9 +382,9 @@ Result<modbus::TcpClientOptions> tcp_options(const GatewaySetup& setup) {
   const GatewayConfig& c = setup.config;
   const std::uint16_t port = c.modbus.port != 0 ? c.modbus.port : device_of(c, setup.layout).port;
   if (port == 0) {
-    return make_error(
-        Errc::invalid_argument,
-        fmt::format("{}: no Modbus port: neither modbus.port nor the layout gives one", c.machine));
+    return make_error(Errc::invalid_argument,
+                      fmt::format("{}: no Modbus port: neither modbus.port nor the layout gives one",
+                                  c.controller.machine));
   }
   modbus::TcpClientOptions o;
   o.host = c.modbus.host;

@@ -32,7 +32,7 @@ class LegacyRobotLogic final : public DeviceLogic {
   explicit LegacyRobotLogic(const LogicContext& c)
       : config_(c.config),
         layout_(c.layout),
-        robot_(*c.layout.robot(c.config.machine)),
+        robot_(*c.layout.robot(c.config.controller.machine)),
         program_(c.config.robot),
         handshake_(rc::kFaultCode) {
     const std::string& station = program_.station.empty() ? robot_.stations.front() : program_.station;

@@ -38,6 +38,7 @@
 #include "sf/core/result.hpp"
 #include "sf/factory/conveying.hpp"
 #include "sf/factory/gateway_config.hpp"
+#include "sf/factory/job_queue.hpp"
 #include "sf/factory/machine.hpp"
 #include "sf/factory/packml.hpp"
 #include "sf/modbus/client.hpp"
@@ -52,8 +53,7 @@ struct JobResult;
 }  // namespace gateway
 
 // Stop reasons (PackML Admin.StopReason.ID) of a gateway besides the PLC's own
-// fault codes (line::FaultCode, 1..9); 0 is an operator's command.
-inline constexpr std::int32_t kStopOperator = 0;
+// fault codes (line::FaultCode, 1..9) and an operator's command (kStopOperator).
 inline constexpr std::int32_t kStopPlcUnreachable = 101;  // no answer, connection lost
 inline constexpr std::int32_t kStopPlcException = 102;    // the device answers with Modbus exceptions
 
@@ -91,13 +91,6 @@ class Gateway final : public MachineController {
 
  private:
   enum class Link : std::uint8_t { unknown, up, stale, lost };
-  struct Job {
-    std::string id;
-    Operation op;
-    std::chrono::nanoseconds estimate{0};
-    std::chrono::nanoseconds active{0};  // time in work while the unit could work on it
-    bool cancel = false;
-  };
 
   void read_device();
   void link_failed(const modbus::ClientError& error);
@@ -127,9 +120,7 @@ class Gateway final : public MachineController {
   Clock::time_point next_poll_ = Clock::time_point::min();
   bool held_by_link_ = false;
   bool auto_start_pending_ = false;
-  std::optional<Job> current_;
-  std::deque<Job> queue_;
-  std::vector<JobOutcome> outcomes_;  // delivered at the end of poll()
+  JobQueue jobs_;  // outcomes delivered at the end of poll()
 };
 
 // The TCP client options of a checked configuration (the machine's port from the layout when

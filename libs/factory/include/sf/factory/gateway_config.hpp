@@ -3,14 +3,11 @@
 // reaches the PLC, and what it offers on the machine's behalf. Every key is
 // checked; errors name file:line:column and the key path, and a
 // configuration that does not fit its layout (no such machine, a machine of
-// another kind, a station the robot does not serve) is refused.
+// another kind, a station the robot does not serve) is refused. The keys
+// every controller has (machine, layout, serial_number, start, job_timeout_s,
+// opcua, dds) are controller_config.hpp's; a gateway adds:
 //
-//   machine: toshiba                  # the layout's name of the machine
 //   kind: legacy-robot                # conveyor, uploader, downloader, legacy-robot
-//   layout: prototype-line.yaml       # relative to this file; built-in default when missing
-//   serial_number: THL300-0042        # for the Machinery identification (optional)
-//   start: execute                    # stopped (default): wait for an operator's Reset and Start
-//   job_timeout_s: 10                 # a job step taking this much longer than estimated fails
 //   modbus:
 //     host: 127.0.0.1
 //     port: 1502                      # default: the layout's controller/plc port
@@ -18,13 +15,6 @@
 //     timeout_ms: 500                 # response timeout
 //     poll_period_ms: 20
 //     stale_after_ms: 1000            # values read this long ago turn from Uncertain to Bad
-//   opcua: {port: 4841}               # carried through for the OPC UA server
-//   dds:                              # the Contract Net (paper §IV.B)
-//     machining_domain: 10            # DDS domain ids, 0..232
-//     conveying_domain: 11
-//     interface: lo                   # lo: loopback only; a NIC name or address: multicast discovery
-//     partition: smartfactory         # one per plant on a network
-//     lease_ms: 1000                  # a gateway silent this long is presumed dead by the products
 //   robot:                            # legacy-robot only: the controller's taught program
 //     station: conveyor3/toshiba      # where it loads boxes (default: its first station)
 //     approach_m: 0.05                # above pick and place points
@@ -40,6 +30,7 @@
 #include <string_view>
 
 #include "sf/core/result.hpp"
+#include "sf/factory/controller_config.hpp"
 #include "sf/line/layout.hpp"
 
 namespace sf::factory {
@@ -57,14 +48,6 @@ struct ModbusEndpoint {
   std::chrono::milliseconds stale_after{1000};
 };
 
-struct DdsOptions {
-  std::uint32_t machining_domain = 10;
-  std::uint32_t conveying_domain = 11;
-  std::string interface = "lo";
-  std::string partition = "smartfactory";
-  std::chrono::milliseconds lease{1000};
-};
-
 // A legacy robot controller's own program: its moves as taught on the
 // controller, which the gateway cannot read over Modbus but needs for its
 // estimates. The defaults are the line's controllers (docs/plant.md).
@@ -77,15 +60,9 @@ struct RobotProgram {
 };
 
 struct GatewayConfig {
-  std::string machine;
+  ControllerSettings controller;  // machine, layout, start, job timeout, OPC UA, DDS
   GatewayKind kind = GatewayKind::conveyor;
-  std::filesystem::path layout_file;  // empty: the built-in default layout
-  std::string serial_number;
-  bool auto_start = false;  // start: execute
-  std::chrono::milliseconds job_timeout{10000};
   ModbusEndpoint modbus;
-  std::uint16_t opcua_port = 4840;
-  DdsOptions dds;
   RobotProgram robot;
 };
 

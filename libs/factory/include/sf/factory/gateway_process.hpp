@@ -42,9 +42,6 @@ struct GatewayReport {
   std::uint64_t silent = 0;   // REQUESTs a conveyor left unanswered (it took no work)
 };
 
-// The negotiation module's DDS settings for a gateway's configuration.
-negotiation::DdsSettings dds_settings(const DdsOptions& options);
-
 class GatewayProcess {
  public:
   // `setup` is a checked configuration (load_gateway_config); `clock` is the process's (real

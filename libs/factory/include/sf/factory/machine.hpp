@@ -30,7 +30,8 @@ namespace sf::factory {
 // The operations of the candy line, the names products announce (Contract
 // Net operation types) and the ontology's capabilities map to:
 //   "upload"    box-loading    params: box_type (catalog index)
-//   "load"      pick-and-place params: candy (catalog index), count, box (id), slot (first slot)
+//   "load"      pick-and-place params: candy (catalog index), count, box (id), slot (first
+//                              slot, 0-based, row by row), box_type (catalog index)
 //   "download"  box-unloading  params: box (id)
 //   "transport" conveying      params: box (id), from, to (place indexes: conveying.hpp, a
 //                                      station or a belt's entry)
@@ -43,6 +44,9 @@ struct Operation {
   std::string type;                      // one of the names above
   std::map<std::string, double> params;  // as the Contract Net carries them
   [[nodiscard]] std::optional<double> param(std::string_view name) const;
+  // A whole-number parameter within [lo, hi]; errors name the parameter and
+  // say whether it is missing, not whole or out of range.
+  [[nodiscard]] Result<std::int64_t> integer(std::string_view name, std::int64_t lo, std::int64_t hi) const;
 };
 
 // What a machine would take to do an operation now (the BID's content).
@@ -58,7 +62,7 @@ struct JobOutcome {
   std::string detail;  // the result (e.g. "3 toffee in slots 4-6") or why it failed
   // What the product needs to go on, typed as Operation::params are: "box" (the id of an
   // uploaded box), "weight_g" and "count.<candy>" (an inspection), "placed" (candies loaded).
-  std::map<std::string, double> results;
+  std::map<std::string, double> results{};
 };
 
 // Machinery-style identification (OPC 40001-1 §8: Manufacturer, Model,

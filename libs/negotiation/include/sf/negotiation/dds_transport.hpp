@@ -47,10 +47,11 @@ struct DdsSettings {
   std::int32_t history_depth = 16;
 };
 
-// The settings of agents that meet in these domains and partition on `interface` ("lo": loopback
-// only, unicast discovery; otherwise that NIC or address, with multicast discovery).
-DdsSettings agent_settings(dds::DomainId machining, dds::DomainId conveying, std::string partition,
-                           const std::string& interface, std::chrono::nanoseconds lease);
+// Settings from what a configuration file or command line gives: the domains,
+// the partition, a network interface by name ("lo": loopback only, else
+// multicast discovery on that interface) and the liveliness lease.
+DdsSettings dds_settings(dds::DomainId machining_domain, dds::DomainId conveying_domain,
+                         std::string partition, const std::string& interface, std::chrono::nanoseconds lease);
 
 class ProductEndpoints final : public ManagerTransport, public RouteTransport {
  public:

@@ -1,0 +1,479 @@
+#include "sf/factory/smart_robot.hpp"
+
+#include <fmt/format.h>
+
+#include "load_job.hpp"
+#include "sf/factory/smart_robot/arm.hpp"
+
+namespace sf::factory {
+
+using S = PackMLState;
+using smart_robot::Leg;
+
+namespace {
+
+// The states in which a drive fault aborts the unit (not while it is already
+// going down or being cleared).
+bool watches_faults(S s) {
+  return s != S::Aborting && s != S::Aborted && s != S::Clearing;
+}
+
+// The states a lost segment stops (Stop is refused in the others).
+bool runs(S s) {
+  return s != S::Stopping && s != S::Stopped && s != S::Aborting && s != S::Aborted && s != S::Clearing;
+}
+
+std::chrono::nanoseconds seconds(double s) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
+}
+
+}  // namespace
+
+SmartRobot::SmartRobot(SmartRobotConfig config, line::Layout layout, ethercat::master::Master& master,
+                       const Clock& clock)
+    : config_(std::move(config)),
+      layout_(std::move(layout)),
+      spec_(layout_.robot(config_.robot)),
+      master_(&master),
+      clock_(&clock),
+      unit_(clock),
+      auto_start_pending_(config_.auto_start) {
+  identification_.name = config_.robot;
+  identification_.kind = "smart-robot";
+  if (spec_ != nullptr) {
+    identification_.manufacturer = spec_->vendor;
+    identification_.model = spec_->model;
+    arm_ = std::make_unique<smart_robot::Arm>(master, *spec_, config_.limits, config_.slave);
+  }
+}
+
+SmartRobot::~SmartRobot() = default;
+
+Status SmartRobot::start() {
+  if (spec_ == nullptr || spec_->legacy()) {
+    return make_error(Errc::invalid_argument,
+                      fmt::format("'{}' is not a smart robot of the layout", config_.robot));
+  }
+  SF_TRY(motion::validate(config_.limits));
+  SF_TRY(master_->bring_up(ethercat::AlState::Op));
+  SF_TRY(arm_->attach());
+  identification_.serial_number =
+      config_.serial_number.empty() ? fmt::format("{}", arm_->serial_number()) : config_.serial_number;
+  started_ = true;
+  return {};
+}
+
+std::vector<std::string> SmartRobot::operations() const {
+  return {std::string(kLoad)};
+}
+
+// --- the Contract Net's side ------------------------------------------------
+
+std::optional<std::string> SmartRobot::refusal(const Operation& op) const {
+  if (!started_ || !arm_->link_up()) {
+    return fmt::format("{}'s EtherCAT segment is down: {}", config_.robot,
+                       started_ ? arm_->link_error() : "not started");
+  }
+  if (unit_.state() != S::Execute) {
+    return fmt::format("{} is in {}", config_.robot, to_string(unit_.state()));
+  }
+  if (op.type != kLoad) {
+    return fmt::format("{} does not do '{}'", config_.robot, op.type);
+  }
+  return std::nullopt;
+}
+
+std::optional<Estimate> SmartRobot::estimate(const Operation& op, std::string* why_not) const {
+  auto fail = [&](std::string why) -> std::optional<Estimate> {
+    if (why_not != nullptr) {
+      *why_not = std::move(why);
+    }
+    return std::nullopt;
+  };
+  if (auto why = refusal(op)) {
+    return fail(*why);
+  }
+  auto job = smart_robot::resolve_load(layout_, *spec_, op);
+  if (!job) {
+    return fail(job.error().message);
+  }
+  if (empty_.contains(job->candy)) {
+    return fail(fmt::format("{}'s {} dispenser ran empty; an operator's Reset clears it", config_.robot,
+                            job->candy_name));
+  }
+  const auto legs = smart_robot::load_legs(layout_, *spec_, *job, config_.pick_place);
+  auto duration =
+      smart_robot::load_duration(*spec_, config_.limits, arm_->setpoint(), legs, config_.pick_place);
+  if (!duration) {
+    return fail(duration.error().message);
+  }
+  return Estimate{jobs_.backlog(), *duration, jobs_.length()};
+}
+
+Status SmartRobot::submit(const std::string& job, const Operation& op) {
+  std::string why;
+  const auto e = estimate(op, &why);
+  return jobs_.admit(config_.robot, job, op, e, why);
+}
+
+Status SmartRobot::cancel(const std::string& job) {
+  return jobs_.cancel(job);
+}
+
+// --- operators --------------------------------------------------------------
+
+Status SmartRobot::command(PackMLCommand command) {
+  SF_TRY(unit_.command(command, operator_stop_reason(command)));
+  if (command == PackMLCommand::Reset) {
+    reset_step_ = ResetStep::enable;
+  }
+  auto_start_pending_ = false;  // an operator has taken over
+  stopped_by_link_ = false;
+  return {};
+}
+
+ControllerStatus SmartRobot::status() const {
+  ControllerStatus s;
+  s.packml = unit_.status();
+  jobs_.show(s);
+  if (!started_) {
+    s.fault = "not started";
+    return s;
+  }
+  s.fault = arm_->link_up() ? "" : arm_->link_error();
+  const auto quality = arm_->link_up() ? Tag::Quality::good : Tag::Quality::bad;
+  const std::string reason = arm_->link_up() ? "" : arm_->link_error();
+  auto tag = [&](std::string name, decltype(Tag::value) v) {
+    s.tags.push_back({std::move(name), std::move(v), quality, reason});
+  };
+  const auto q = arm_->actual();
+  const auto axes = arm_->axes();
+  for (unsigned a = 0; a < axes.size(); ++a) {
+    const std::string axis = fmt::format("axis{}", a + 1);
+    tag(axis + ".position", q[a]);
+    tag(axis + ".setpoint", arm_->setpoint()[a]);
+    tag(axis + ".state", std::string(ethercat::master::cia402::to_string(axes[a].state())));
+    tag(axis + ".statusword", static_cast<std::int64_t>(axes[a].statusword()));
+  }
+  const auto tool = motion::scara_forward(spec_->scara, q).position;
+  tag("tool.x", tool.x);
+  tag("tool.y", tool.y);
+  tag("tool.z", tool.z);
+  const std::uint32_t di = arm_->inputs();
+  tag("io.gripper", arm_->gripper_on());
+  tag("io.part_present", (di & line::kDiPartPresent) != 0);
+  tag("io.vacuum_ok", (di & line::kDiVacuumOk) != 0);
+  for (std::size_t k = 0; k < spec_->stations.size(); ++k) {
+    tag(fmt::format("io.box_in_place.{}", k), (di & (1U << (line::kDiBoxInPlace + k))) != 0);
+  }
+  return s;
+}
+
+// --- the cycle ----------------------------------------------------------------
+
+Clock::time_point SmartRobot::poll(Clock::time_point now) {
+  const auto cycle = seconds(config_.limits.cycle);
+  if (!started_) {
+    return now + cycle;
+  }
+  arm_->cycle();
+  last_cycle_ = now;
+  watch_link();
+  if (watches_faults(unit_.state()) && arm_->link_up()) {
+    watch_faults();
+  }
+  auto_start();
+  run_unit();
+  for (const auto& outcome : jobs_.take_outcomes()) {
+    job_ended(outcome);
+  }
+  return now + cycle;
+}
+
+void SmartRobot::watch_faults() {
+  if (auto fault = arm_->axis_fault()) {
+    unit_.fault(StopReason{kStopAxisFault, fmt::format("{}: {}", config_.robot, *fault), {}});
+  }
+}
+
+// A lost segment stops the unit; once the slave is back in OP the controller resets by itself.
+void SmartRobot::watch_link() {
+  if (!arm_->link_up()) {
+    if (runs(unit_.state())) {
+      (void)unit_.command(
+          PackMLCommand::Stop,
+          StopReason{kStopEtherCatLost, fmt::format("{}: {}", config_.robot, arm_->link_error()), {}});
+      stopped_by_link_ = true;
+    }
+    return;
+  }
+  if (stopped_by_link_ && unit_.state() == S::Stopped) {
+    stopped_by_link_ = false;
+    reset_step_ = ResetStep::enable;
+    (void)unit_.command(PackMLCommand::Reset);
+    auto_start_pending_ = config_.auto_start;
+  }
+}
+
+void SmartRobot::auto_start() {
+  if (!auto_start_pending_ || !arm_->link_up()) {
+    return;
+  }
+  if (unit_.state() == S::Stopped) {
+    reset_step_ = ResetStep::enable;
+  }
+  if (unit_.advance_to_execute()) {
+    auto_start_pending_ = false;
+  }
+}
+
+void SmartRobot::run_unit() {
+  switch (unit_.state()) {
+    case S::Execute:
+      work(true);
+      return;
+    case S::Resetting:
+      resetting();
+      return;
+    case S::Clearing:
+      clearing();
+      return;
+    case S::Starting:
+    case S::Unholding:
+    case S::Unsuspending:
+    case S::Completing:
+      (void)unit_.state_complete();
+      return;
+    case S::Holding:
+    case S::Suspending:
+    case S::Stopping:
+      work(false);
+      if (!leg_running_ || !arm_->link_up()) {
+        if (unit_.state() == S::Stopping) {
+          arm_->halt();
+          arm_->gripper(false);
+          drop_all("stopped");
+        }
+        (void)unit_.state_complete();
+      }
+      return;
+    case S::Aborting:
+      arm_->disable();
+      arm_->gripper(false);
+      drop_all(aborted());
+      (void)unit_.state_complete();
+      return;
+    default:  // wait states: finish the move in progress, start nothing
+      if (leg_running_) {
+        work(false);
+      }
+      return;
+  }
+}
+
+// Resetting: drive faults acknowledged, drives enabled where they stand, then home.
+void SmartRobot::resetting() {
+  if (!arm_->link_up()) {
+    return;
+  }
+  switch (reset_step_) {
+    case ResetStep::enable:
+      empty_.clear();
+      arm_->fault_reset();
+      arm_->gripper(false);
+      arm_->enable();
+      if (arm_->enabled()) {
+        const motion::Vec3 home = smart_robot::home_point(layout_, *spec_);
+        const auto here = motion::scara_forward(spec_->scara, arm_->setpoint()).position;
+        // Up first, then across: the tool never sweeps low over the belt.
+        auto waypoints = smart_robot::from_here(
+            here, {motion::Waypoint{{{here.x, here.y, std::max(here.z, home.z)}, 0.0}, 0.0, 0.0},
+                   motion::Waypoint{{home, 0.0}, 0.0, 0.0}});
+        if (!waypoints.empty()) {
+          auto path = arm_->plan(waypoints);
+          if (!path) {
+            unit_.fault(StopReason{
+                kStopHomingFailed, fmt::format("{}: homing: {}", config_.robot, path.error().message), {}});
+            return;
+          }
+          arm_->follow(std::move(*path));
+        }
+        reset_step_ = ResetStep::home;
+      }
+      return;
+    case ResetStep::home:
+      if (arm_->settled()) {
+        reset_step_ = ResetStep::done;
+        (void)unit_.state_complete();
+      }
+      return;
+    case ResetStep::done:
+      return;
+  }
+}
+
+void SmartRobot::clearing() {
+  arm_->fault_reset();
+  if (!arm_->axis_fault()) {
+    (void)unit_.state_complete();
+  }
+}
+
+std::string SmartRobot::aborted() const {
+  const auto reason = unit_.status().stop_reason;
+  return reason ? fmt::format("aborted ({})", reason->message) : "aborted";
+}
+
+// --- jobs ---------------------------------------------------------------------
+
+void SmartRobot::work(bool go) {
+  if (!load_) {
+    if (!go || !begin_job()) {
+      return;
+    }
+  }
+  QueuedJob* job = jobs_.current();
+  if (go && box_seen_) {
+    job->active += seconds(config_.limits.cycle);
+    if (job->active > job->estimate + config_.job_timeout) {
+      arm_->halt();
+      arm_->gripper(false);
+      const auto late = std::chrono::duration<double>(job->active - job->estimate).count();
+      return end_job(false, fmt::format("timed out ({:.1f} s over its estimate)", late));
+    }
+  }
+  if (leg_running_) {
+    follow_leg();
+    return;
+  }
+  if (!go) {
+    return;
+  }
+  if (job->cancel && !arm_->gripper_on()) {  // never with a part on the cup
+    return end_job(false, "cancelled");
+  }
+  if (!box_seen_) {
+    box_seen_ = (arm_->inputs() & (1U << (line::kDiBoxInPlace + load_->station_index))) != 0;
+    if (!box_seen_) {
+      return;  // the box is on its way
+    }
+  }
+  if (leg_ == legs_.size()) {
+    return end_job(true, fmt::format("{} {} in slots {}-{} of box {}", load_->count, load_->candy_name,
+                                     load_->first_slot, load_->first_slot + load_->count - 1, load_->box));
+  }
+  begin_leg();
+}
+
+bool SmartRobot::begin_job() {
+  if (!jobs_.begin_next()) {
+    return false;
+  }
+  auto job = smart_robot::resolve_load(layout_, *spec_, jobs_.current()->op);
+  if (!job) {
+    end_job(false, job.error().message);
+    return false;
+  }
+  load_ = std::make_unique<smart_robot::LoadJob>(*job);
+  legs_ = smart_robot::load_legs(layout_, *spec_, *load_, config_.pick_place);
+  leg_ = 0;
+  leg_running_ = false;
+  box_seen_ = false;
+  placed_ = 0;
+  return true;
+}
+
+void SmartRobot::begin_leg() {
+  const Leg& leg = legs_[leg_];
+  leg_started_ = clock_->now();
+  leg_running_ = true;
+  switch (leg.kind) {
+    case Leg::Kind::grip:
+      arm_->gripper(true);
+      return;
+    case Leg::Kind::release:
+      arm_->gripper(false);
+      return;
+    case Leg::Kind::move: {
+      const auto here = motion::scara_forward(spec_->scara, arm_->setpoint()).position;
+      const auto waypoints = smart_robot::from_here(here, leg.waypoints);
+      if (waypoints.empty()) {
+        return;
+      }
+      auto path = arm_->plan(waypoints);
+      if (!path) {
+        leg_running_ = false;
+        return end_job(false, fmt::format("move {}: {}", leg_ + 1, path.error().message));
+      }
+      arm_->follow(std::move(*path));
+      return;
+    }
+  }
+}
+
+void SmartRobot::follow_leg() {
+  const Leg& leg = legs_[leg_];
+  const auto waited = clock_->now() - leg_started_;
+  const std::uint32_t di = arm_->inputs();
+  switch (leg.kind) {
+    case Leg::Kind::move:
+      if (!arm_->move_error().empty()) {
+        leg_running_ = false;
+        return end_job(false, fmt::format("move {}: {}", leg_ + 1, arm_->move_error()));
+      }
+      if (!arm_->settled()) {
+        return;
+      }
+      break;
+    case Leg::Kind::grip:
+      if ((di & (line::kDiPartPresent | line::kDiVacuumOk)) != (line::kDiPartPresent | line::kDiVacuumOk)) {
+        if (waited < config_.pick_place.grip_timeout) {
+          return;
+        }
+        arm_->gripper(false);
+        empty_.insert(load_->candy);
+        leg_running_ = false;
+        return end_job(
+            false,
+            fmt::format("no {} on the cup {} ms after the pick at {}: the dispenser is empty",
+                        load_->candy_name, config_.pick_place.grip_timeout.count(), load_->dispenser->name));
+      }
+      break;
+    case Leg::Kind::release:
+      if ((di & line::kDiPartPresent) != 0) {
+        if (waited < config_.pick_place.release_timeout) {
+          return;
+        }
+        leg_running_ = false;
+        unit_.fault(StopReason{kStopPartStuck,
+                               fmt::format("{}: the {} does not leave the cup over slot {}", config_.robot,
+                                           load_->candy_name, load_->first_slot + leg.candy),
+                               {}});
+        return;
+      }
+      ++placed_;
+      break;
+  }
+  leg_running_ = false;
+  ++leg_;
+}
+
+void SmartRobot::end_job(bool ok, std::string detail) {
+  unit_.count(ok);
+  if (!ok && placed_ > 0) {
+    detail += fmt::format(" ({} of {} placed)", placed_, load_ ? load_->count : 0);
+  }
+  jobs_.finish(ok, std::move(detail));
+  load_.reset();
+  legs_.clear();
+  leg_running_ = false;
+}
+
+void SmartRobot::drop_all(const std::string& why) {
+  if (jobs_.current() != nullptr) {
+    end_job(false, why);
+  }
+  jobs_.drop_queued(why);
+}
+
+}  // namespace sf::factory

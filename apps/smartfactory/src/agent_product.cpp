@@ -24,6 +24,7 @@ struct ProductCliOptions {
   bool no_route = false;
   std::string policy = "earliest-finish";
   std::vector<std::string> direct;
+  std::vector<std::string> params;
   unsigned bid_ms = 500;
   unsigned confirm_ms = 500;
   unsigned max_rounds = 10;
@@ -65,19 +66,47 @@ cnp::ProductEvents product_events(bool as_json) {
             : say(fmt::format("{}: route {}", p, r.describe()));
   };
   ev.on_step_done = [as_json](const std::string& p, const cnp::Step& s) {
-    if (as_json) {
-      emit(json{{"event", "done"},
-                {"product", p},
-                {"operation", s.operation},
-                {"conversation", s.conversation},
-                {"contractor", s.contractor}});
+    if (!as_json) {
+      return;
     }
+    json results = json::object();
+    for (const auto& r : s.results) {
+      results[r.name] = r.value;
+    }
+    emit(json{{"event", "done"},
+              {"product", p},
+              {"operation", s.operation},
+              {"conversation", s.conversation},
+              {"contractor", s.contractor},
+              {"result", s.result},
+              {"results", results}});
   };
   ev.on_finished = [as_json](const std::string& p, bool ok, const std::string& why) {
     as_json ? emit(json{{"event", "finished"}, {"product", p}, {"ok", ok}, {"error", why}})
             : say(ok ? fmt::format("{}: finished", p) : fmt::format("{}: FAILED: {}", p, why));
   };
   return ev;
+}
+
+// "OP.NAME=VALUE": a parameter OP is announced with.
+Result<std::pair<std::string, cnp::Param>> parse_param(const std::string& text) {
+  const auto dot = text.find('.');
+  const auto eq = text.find('=');
+  if (dot == std::string::npos || eq == std::string::npos || dot == 0 || eq < dot + 2 ||
+      eq + 1 == text.size()) {
+    return Error{Errc::invalid_argument, fmt::format("--param '{}': expected OP.NAME=VALUE", text)};
+  }
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text.substr(eq + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() - eq - 1) {
+    return Error{Errc::invalid_argument, fmt::format("--param '{}': the value is not a number", text)};
+  }
+  return std::pair{text.substr(0, dot), cnp::Param{text.substr(dot + 1, eq - dot - 1), value}};
 }
 
 Result<cnp::ProductAgentConfig> product_config(const ProductCliOptions& o) {
@@ -102,6 +131,13 @@ Result<cnp::ProductAgentConfig> product_config(const ProductCliOptions& o) {
   c.manager.confirm_grace = std::chrono::milliseconds{o.confirm_ms / 2};
   c.manager.max_rounds = o.max_rounds;
   c.discovery_timeout = std::chrono::milliseconds{o.discovery_ms};
+  for (const auto& text : o.params) {
+    auto param = parse_param(text);
+    if (!param) {
+      return param.error();
+    }
+    c.params[param->first].push_back(param->second);
+  }
   for (const auto& d : o.direct) {
     const auto eq = d.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == d.size()) {
@@ -174,6 +210,10 @@ void register_product(CLI::App& group, CommandResult& result) {
       ->capture_default_str();
   cmd->add_option("--direct", o->direct,
                   "OP=MACHINE: award OP to MACHINE without a call for bids (DIRECTEDAWARD); repeatable");
+  cmd->add_option("--param", o->params,
+                  "OP.NAME=VALUE: announce OP with this parameter; repeatable. Results of earlier operations "
+                  "named 'box' (an uploaded box's id) are carried into later ones")
+      ->type_name("OP.NAME=VALUE");
   cmd->add_option("--bid-ms", o->bid_ms,
                   "Bid deadline after an ANNOUNCE (earlier once every machine answered)")
       ->capture_default_str();

@@ -48,4 +48,7 @@ void register_machine(CLI::App& app, CommandResult& result);
 // `history query|series|events|retention|write` (historian module).
 void register_history(CLI::App& app, CommandResult& result);
 
+// `gateway --config FILE` (factory module): a legacy machine's gateway.
+void register_gateway(CLI::App& app, CommandResult& result);
+
 }  // namespace sf::app

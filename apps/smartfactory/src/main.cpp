@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef SF_HAVE_FACTORY
   sf::app::register_machine(app, result);
+  sf::app::register_gateway(app, result);
 #endif
 
   try {

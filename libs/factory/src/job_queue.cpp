@@ -17,6 +17,22 @@ Status JobQueue::add(std::string id, Operation op, std::chrono::nanoseconds esti
   return {};
 }
 
+Status JobQueue::admit(std::string_view machine, std::string id, const Operation& op,
+                       const std::optional<Estimate>& estimate, std::string_view why_not) {
+  if (!estimate) {
+    return make_error(Errc::state, fmt::format("{} declines {}: {}", machine, op.type, why_not));
+  }
+  return add(std::move(id), op, estimate->duration);
+}
+
+void JobQueue::show(ControllerStatus& status) const {
+  if (current_) {
+    status.job = current_->id;
+    status.operation = current_->op;
+  }
+  status.queued = queued();
+}
+
 Status JobQueue::cancel(const std::string& id) {
   if (current_ && current_->id == id) {
     current_->cancel = true;
@@ -40,9 +56,9 @@ bool JobQueue::begin_next() {
   return true;
 }
 
-void JobQueue::finish(bool ok, std::string detail) {
+void JobQueue::finish(bool ok, std::string detail, std::map<std::string, double> results) {
   if (current_) {
-    outcomes_.push_back({current_->id, ok, std::move(detail)});
+    outcomes_.push_back({current_->id, ok, std::move(detail), std::move(results)});
     current_.reset();
   }
 }

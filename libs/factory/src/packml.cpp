@@ -101,6 +101,15 @@ bool PackMLUnit::acting(PackMLState state) {
   return after(state) != S::Undefined && state != S::Execute;
 }
 
+bool PackMLUnit::advance_to_execute() {
+  if (state_ == PackMLState::Stopped) {
+    (void)command(PackMLCommand::Reset);
+  } else if (state_ == PackMLState::Idle) {
+    (void)command(PackMLCommand::Start);
+  }
+  return state_ == PackMLState::Execute;
+}
+
 bool PackMLUnit::accepts(PackMLCommand command) const {
   return target(state_, command) != S::Undefined;
 }
@@ -167,6 +176,13 @@ PackMLStatus PackMLUnit::status() const {
   s.state_current_time = clock_->now() - entered_;
   s.time_in_state[static_cast<std::size_t>(state_)] += s.state_current_time;
   return s;
+}
+
+std::optional<StopReason> operator_stop_reason(PackMLCommand command) {
+  if (command != PackMLCommand::Stop && command != PackMLCommand::Hold && command != PackMLCommand::Abort) {
+    return std::nullopt;
+  }
+  return StopReason{kStopOperator, fmt::format("operator: {}", to_string(command)), {}};
 }
 
 }  // namespace sf::factory

@@ -35,7 +35,7 @@ class ScriptedController final : public MachineController {
   Status command(PackMLCommand /*command*/) override { return {}; }
   Clock::time_point poll(Clock::time_point now) override { return now; }
   [[nodiscard]] ControllerStatus status() const override { return {}; }
-  void end(const std::string& job, bool ok, const std::string& detail) { job_ended({job, ok, detail}); }
+  void end(const std::string& job, bool ok, const std::string& detail) { job_ended({job, ok, detail, {}}); }
 
   bool willing = true;
   mutable std::vector<Operation> asked;

@@ -29,6 +29,25 @@ TEST(PackMLTest, TheProductionCycle) {
   EXPECT_EQ(unit.state(), S::Resetting);
 }
 
+// A controller that starts by itself takes the operator's path, a command per call, and leaves
+// the acting states to the controller's work.
+TEST(PackMLTest, AStartWithoutAnOperatorResetsThenStarts) {
+  ManualClock clock;
+  PackMLUnit unit(clock);
+  EXPECT_FALSE(unit.advance_to_execute());
+  EXPECT_EQ(unit.state(), S::Resetting);
+  EXPECT_FALSE(unit.advance_to_execute());  // Resetting is the controller's to complete
+  EXPECT_EQ(unit.state(), S::Resetting);
+  ASSERT_TRUE(unit.state_complete());
+  EXPECT_FALSE(unit.advance_to_execute());
+  EXPECT_EQ(unit.state(), S::Starting);
+  ASSERT_TRUE(unit.state_complete());
+  EXPECT_TRUE(unit.advance_to_execute());
+  EXPECT_EQ(operator_stop_reason(C::Hold)->message, "operator: Hold");
+  EXPECT_EQ(operator_stop_reason(C::Hold)->id, kStopOperator);
+  EXPECT_FALSE(operator_stop_reason(C::Start));
+}
+
 TEST(PackMLTest, HoldAndUnholdComeBackToExecute) {
   ManualClock clock;
   PackMLUnit unit(clock, S::Execute);

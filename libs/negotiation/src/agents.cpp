@@ -69,7 +69,12 @@ Result<std::unique_ptr<ProductAgent>> ProductAgent::create(const DdsSettings& se
   }
   for (std::size_t i = 1; i <= config.count; ++i) {
     ProductPlan plan{config.count == 1 ? config.name : fmt::format("{}-{}", config.name, i),
-                     config.operations, config.start, config.route, config.directed};
+                     config.operations,
+                     config.start,
+                     config.route,
+                     config.directed,
+                     config.params,
+                     config.carry};
     SF_TRY(validate_name("product", plan.name));
     agent->products_.emplace_back(*agent->manager_, agent->planner_.get(), std::move(plan), events);
   }

@@ -133,7 +133,7 @@ void Contractor::bid_from_backend(const Announce& a, Offer& offer) {
     offer.bid = false;
     ++stats_.declines;
     (void)send(a.conversation, a.operation, a.round,
-               Refuse{0, why_not.empty() ? "cannot do it now" : why_not});
+               Refuse{0, fit_text(why_not.empty() ? "cannot do it now" : why_not)});
     return;
   }
   const auto start = clock_->now() + estimate->start_in;
@@ -159,14 +159,14 @@ void Contractor::on_manager_message(const ManagerMessage& m) {
     ignore(describe(m), fmt::format("unknown operation type {}", m.operation));
     return;
   }
-  std::visit(Overloaded{[&](const Award& a) { on_award(m, a.award_id, a.confirm_by, false); },
-                        [&](const DirectedAward& a) { on_award(m, a.award_id, a.confirm_by, true); },
+  std::visit(Overloaded{[&](const Award& a) { on_award(m, a.award_id, a.confirm_by, nullptr); },
+                        [&](const DirectedAward& a) { on_award(m, a.award_id, a.confirm_by, &a.params); },
                         [&](const Cancel& c) { on_cancel(m, c.award_id, c.reason); }},
              m.body);
 }
 
 void Contractor::on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTime confirm_by,
-                          bool directed) {
+                          const std::vector<Param>* directed) {
   auto it = offers_.find(m.conversation);
   if (award_id == 0 || (it != offers_.end() && award_id <= it->second.handled_award)) {
     ignore(describe(m), "duplicate or stale award");
@@ -175,9 +175,13 @@ void Contractor::on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTi
   if (events_.on_awarded) {
     events_.on_awarded(m);
   }
-  if (!directed && (it == offers_.end() || !it->second.bid)) {
+  if (directed != nullptr) {
+    offers_[m.conversation].params = *directed;  // the work's parameters: no announcement gave them
+    it = offers_.find(m.conversation);
+  }
+  if (directed == nullptr && (it == offers_.end() || !it->second.bid)) {
     refuse(m, award_id, "no bid in this conversation");
-  } else if (!directed && m.round != it->second.round) {
+  } else if (directed == nullptr && m.round != it->second.round) {
     refuse(m, award_id, fmt::format("award for round {}, bid was for round {}", m.round, it->second.round));
   } else if (clock_->utc_now() > confirm_by) {
     refuse(m, award_id, "award arrived after its confirm-by time");
@@ -186,6 +190,8 @@ void Contractor::on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTi
     refuse(m, award_id, "already working this conversation");
   } else if (jobs_.size() >= config_.capacity) {
     refuse(m, award_id, "queue full");
+  } else if (auto why = backend_declines(m, directed)) {
+    refuse(m, award_id, std::move(*why));
   } else {
     accept(m, award_id, *skill(m.operation));
   }
@@ -194,6 +200,19 @@ void Contractor::on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTi
   offer.product = m.product;
   offer.handled_award = std::max(offer.handled_award, award_id);
   offer.forget_at = clock_->now() + config_.bid_memory;
+}
+
+// A directed award was never bid for: the backend is asked now whether it would do the work.
+std::optional<std::string> Contractor::backend_declines(const ManagerMessage& m,
+                                                        const std::vector<Param>* directed) {
+  if (directed == nullptr || config_.backend == nullptr) {
+    return std::nullopt;
+  }
+  std::string why_not;
+  if (config_.backend->estimate(m.operation, *directed, why_not)) {
+    return std::nullopt;
+  }
+  return fit_text(why_not.empty() ? "cannot do it now" : why_not);
 }
 
 void Contractor::accept(const ManagerMessage& m, std::uint32_t award_id, const Skill& s) {
@@ -222,26 +241,29 @@ void Contractor::accept(const ManagerMessage& m, std::uint32_t award_id, const S
   finish_due(now);  // work that takes no time is done at once
 }
 
-Status Contractor::report(const std::string& conversation, bool ok, const std::string& detail) {
+Status Contractor::report(const std::string& conversation, bool ok, const std::string& detail,
+                          std::vector<Param> results) {
   auto it =
       std::find_if(jobs_.begin(), jobs_.end(), [&](const Job& j) { return j.conversation == conversation; });
   if (it == jobs_.end()) {
     return make_error(Errc::not_found,
                       fmt::format("{} has no job in conversation {}", config_.name, conversation));
   }
-  end_job(it, ok, detail);
+  end_job(it, ok, detail, std::move(results));
   return {};
 }
 
-void Contractor::end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail) {
+void Contractor::end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail,
+                         std::vector<Param> results) {
   const Job job = *it;
   jobs_.erase(it);
   if (ok) {
     ++stats_.done;
-    (void)send(job.conversation, job.operation, job.round, InformDone{job.award_id, detail});
+    (void)send(job.conversation, job.operation, job.round,
+               InformDone{job.award_id, fit_text(detail), std::move(results)});
   } else {
     ++stats_.failures;
-    (void)send(job.conversation, job.operation, job.round, Failure{job.award_id, detail});
+    (void)send(job.conversation, job.operation, job.round, Failure{job.award_id, fit_text(detail)});
   }
   if (events_.on_work_finished) {
     events_.on_work_finished(job, ok);
@@ -251,7 +273,7 @@ void Contractor::end_job(std::deque<Job>::iterator it, bool ok, const std::strin
 void Contractor::refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason) {
   log_->info("{} refuses {}: {}", config_.name, describe(m), reason);
   ++stats_.refusals;
-  (void)send(m.conversation, m.operation, m.round, Refuse{award_id, std::move(reason)});
+  (void)send(m.conversation, m.operation, m.round, Refuse{award_id, fit_text(reason)});
 }
 
 void Contractor::on_cancel(const ManagerMessage& m, std::uint32_t award_id, const std::string& reason) {

@@ -119,7 +119,7 @@ Result<Announce> decode(const sf_cnp_Announce& s) {
                   std::move(*params),  utc(s.bid_deadline)};
 }
 
-Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m) {
+Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m, ParamStorage& storage) {
   sf_cnp_ContractorMessage s{};
   SF_TRY(put(s.conversation, m.conversation, "conversation"));
   s.conversation_hash = key_hash(m.conversation);
@@ -147,7 +147,8 @@ Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m) {
                  [&](const InformDone& x) -> Status {
                    b._d = sf_cnp_KIND_INFORM_DONE;
                    b._u.inform_done.award_id = x.award_id;
-                   return put(b._u.inform_done.result, x.result, "result");
+                   SF_TRY(put(b._u.inform_done.result, x.result, "result"));
+                   return put_params(b._u.inform_done.results, x.results, storage);
                  },
                  [&](const Failure& x) -> Status {
                    b._d = sf_cnp_KIND_FAILURE;
@@ -177,9 +178,14 @@ Result<ContractorMessage> decode(const sf_cnp_ContractorMessage& s) {
     case sf_cnp_KIND_CONFIRM:
       m.body = Confirm{b._u.confirm.award_id};
       break;
-    case sf_cnp_KIND_INFORM_DONE:
-      m.body = InformDone{b._u.inform_done.award_id, get(b._u.inform_done.result)};
+    case sf_cnp_KIND_INFORM_DONE: {
+      auto results = get_params(b._u.inform_done.results);
+      if (!results) {
+        return results.error();
+      }
+      m.body = InformDone{b._u.inform_done.award_id, get(b._u.inform_done.result), std::move(*results)};
       break;
+    }
     case sf_cnp_KIND_FAILURE:
       m.body = Failure{b._u.failure.award_id, get(b._u.failure.reason)};
       break;
@@ -276,15 +282,19 @@ Result<sf_cnp_TransportInform> encode(const TransportInform& m) {
   SF_TRY(put(s.to, m.to, "to"));
   s.transit_time = m.transit_time.count();
   s.eta = ns(m.eta);
+  s.hops = m.hops;
   return s;
 }
 
 Result<TransportInform> decode(const sf_cnp_TransportInform& s) {
   SF_TRY(check_hash(s.conversation_hash, view(s.conversation), "conversation"));
   SF_TRY(check_hash(s.conveyor_hash, view(s.conveyor), "conveyor"));
+  if (s.hops == 0) {
+    return Error{Errc::malformed, "INFORM of a conveyor that sends no segment (hops 0)"};
+  }
   return TransportInform{
       get(s.conversation), get(s.conveyor), get(s.from), get(s.to), std::chrono::nanoseconds{s.transit_time},
-      utc(s.eta)};
+      utc(s.eta),          s.hops};
 }
 
 sf_cnp_Announce announce_key(const std::string& conversation) {

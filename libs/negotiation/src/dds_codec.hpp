@@ -19,7 +19,7 @@ namespace sf::negotiation::codec {
 using ParamStorage = std::vector<sf_cnp_Param>;
 
 Result<sf_cnp_Announce> encode(const Announce& m, ParamStorage& storage);
-Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m);
+Result<sf_cnp_ContractorMessage> encode(const ContractorMessage& m, ParamStorage& storage);
 Result<sf_cnp_ManagerMessage> encode(const ManagerMessage& m, ParamStorage& storage);
 Result<sf_cnp_TransportRequest> encode(const TransportRequest& m);
 Result<sf_cnp_TransportInform> encode(const TransportInform& m);

@@ -139,7 +139,8 @@ Status MachineEndpoints::send(const ContractorMessage& m) {
     return Error{Errc::not_found,
                  fmt::format("no {} topic: operation not supported", bid_topic(m.operation))};
   }
-  auto sample = codec::encode(m);
+  codec::ParamStorage storage;
+  auto sample = codec::encode(m, storage);
   if (!sample) {
     return sample.error();
   }

@@ -395,6 +395,8 @@ void Manager::on_inform_done(Conversation& c, const ContractorMessage& m, const 
     return;
   }
   log_->debug("{}: done by {}: {}", c.id, m.contractor, done.result);
+  c.result = done.result;
+  c.results = done.results;
   complete(c);
 }
 

@@ -57,6 +57,17 @@ std::string describe(const ManagerMessage& m) {
                      m.operation, m.round, award_of(m.body));
 }
 
+std::string fit_text(std::string_view text) {
+  if (text.size() <= kMaxText) {
+    return std::string{text};
+  }
+  std::size_t cut = kMaxText;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0U) == 0x80U) {
+    --cut;  // text[cut] continues a UTF-8 sequence: cut before the sequence
+  }
+  return std::string{text.substr(0, cut)};
+}
+
 std::string announce_topic(std::string_view operation) {
   return fmt::format("{}_ANNOUNCE", operation);
 }
@@ -71,6 +82,18 @@ Status validate_name(std::string_view what, std::string_view name) {
   if (name.empty() || name.size() > kMaxName || !std::all_of(name.begin(), name.end(), name_char)) {
     return Error{Errc::invalid_argument,
                  fmt::format("{} '{}' must be 1..{} characters of A-Z a-z 0-9 _ . -", what, name, kMaxName)};
+  }
+  return {};
+}
+
+Status validate_location(std::string_view location) {
+  const bool ok =
+      !location.empty() && location.size() <= kMaxName &&
+      std::all_of(location.begin(), location.end(), [](char c) { return name_char(c) || c == '/'; });
+  if (!ok) {
+    return Error{
+        Errc::invalid_argument,
+        fmt::format("location '{}' must be 1..{} characters of A-Z a-z 0-9 _ . - /", location, kMaxName)};
   }
   return {};
 }

@@ -1,5 +1,7 @@
 #include "sf/negotiation/product.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 namespace sf::negotiation {
@@ -14,7 +16,7 @@ Status Product::start() {
     return Error{Errc::state, fmt::format("product {} already started", plan_.name)};
   }
   SF_TRY(validate_name("product", plan_.name));
-  SF_TRY(validate_name("location", plan_.start));
+  SF_TRY(validate_location(plan_.start));
   for (const auto& op : plan_.operations) {
     SF_TRY(validate_operation(op));
   }
@@ -33,10 +35,10 @@ void Product::begin_step() {
     return;
   }
   const auto& op = plan_.operations[index_];
-  current_ = Step{op, {}, {}, 0, 0, std::chrono::nanoseconds{0}, std::nullopt};
+  current_ = Step{op, {}, {}, 0, 0, std::chrono::nanoseconds{0}, std::nullopt, {}, {}};
   work_done_ = false;
   route_done_ = !plan_.route;
-  OperationRequest request{plan_.name, op, {}, {}};
+  OperationRequest request{plan_.name, op, params_of(op), {}};
   if (auto it = plan_.directed.find(op); it != plan_.directed.end()) {
     request.directed_to = it->second;
   }
@@ -49,6 +51,19 @@ void Product::begin_step() {
     return;
   }
   current_.conversation = *id;
+}
+
+std::vector<Param> Product::params_of(const std::string& operation) const {
+  std::vector<Param> out;
+  if (auto it = plan_.params.find(operation); it != plan_.params.end()) {
+    out = it->second;
+  }
+  for (const Param& p : carried_) {
+    if (std::none_of(out.begin(), out.end(), [&](const Param& q) { return q.name == p.name; })) {
+      out.push_back(p);
+    }
+  }
+  return out;
 }
 
 void Product::on_confirmed(const Conversation& c) {
@@ -90,6 +105,15 @@ void Product::on_route(std::uint64_t token, const Result<Route>& route) {
 
 void Product::on_done(const Conversation& c) {
   current_.contractor = c.contractor;
+  current_.result = c.result;
+  current_.results = c.results;
+  for (const Param& r : c.results) {
+    if (std::find(plan_.carry.begin(), plan_.carry.end(), r.name) == plan_.carry.end()) {
+      continue;
+    }
+    std::erase_if(carried_, [&](const Param& p) { return p.name == r.name; });
+    carried_.push_back(r);
+  }
   work_done_ = true;
   maybe_complete_step();
 }

@@ -1,6 +1,7 @@
 #include "sf/negotiation/route.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <queue>
 #include <random>
 #include <tuple>
@@ -100,8 +101,8 @@ RoutePlanner::RoutePlanner(RouteTransport& transport, const Clock& clock, RouteC
 Result<std::string> RoutePlanner::plan(const std::string& product, const std::string& from,
                                        const std::string& to, RouteCallback done) {
   SF_TRY(validate_name("product", product));
-  SF_TRY(validate_name("location", from));
-  SF_TRY(validate_name("location", to));
+  SF_TRY(validate_location(from));
+  SF_TRY(validate_location(to));
   auto id = fmt::format("{}/route/{:x}.{}", product, config_.incarnation, ++next_seq_);
   if (id.size() > kMaxConversation) {
     return Error{Errc::limit_exceeded,
@@ -123,6 +124,8 @@ Result<std::string> RoutePlanner::plan(const std::string& product, const std::st
 void RoutePlanner::send_request(const std::string& id, Pending& p) {
   ++p.attempts;
   p.segments.clear();
+  p.missing.clear();
+  p.complete = 0;
   p.waiting_retry = false;
   p.deadline = clock_->now() + config_.collect_window;
   if (auto st = transport_->request({id, p.product, p.from, p.to, clock_->utc_now()}); !st) {
@@ -144,16 +147,25 @@ void RoutePlanner::on_inform(const TransportInform& i) {
     ignore(i, "arrived after the collection window");
     return;
   }
-  if (i.from.empty() || i.to.empty() || i.from == i.to || i.transit_time.count() < 0) {
+  if (i.from.empty() || i.to.empty() || i.from == i.to || i.transit_time.count() < 0 || i.hops == 0) {
     ignore(i, "malformed segment");
     return;
   }
-  if (!p.segments.emplace(i.conveyor, Segment{i.conveyor, i.from, i.to, i.transit_time}).second) {
+  const bool known = std::any_of(p.segments.begin(), p.segments.end(), [&](const Segment& s) {
+    return s.conveyor == i.conveyor && s.from == i.from && s.to == i.to;
+  });
+  auto [missing, first] = p.missing.try_emplace(i.conveyor, i.hops);
+  if (known || missing->second == 0) {
     ignore(i, "duplicate INFORM");
     return;
   }
+  p.segments.push_back(Segment{i.conveyor, i.from, i.to, i.transit_time});
+  // A conveyor has answered once every segment it announced (hops) arrived.
+  if (--missing->second == 0) {
+    ++p.complete;
+  }
   const std::size_t expected = transport_->conveyors();
-  if (expected > 0 && p.segments.size() >= expected) {
+  if (expected > 0 && p.complete >= expected) {
     compose(i.conversation);
   }
 }
@@ -161,10 +173,7 @@ void RoutePlanner::on_inform(const TransportInform& i) {
 void RoutePlanner::compose(const std::string& id) {
   auto it = requests_.find(id);
   Pending& p = it->second;
-  std::vector<Segment> segments;
-  for (const auto& [name, s] : p.segments) {
-    segments.push_back(s);
-  }
+  const std::vector<Segment> segments = p.segments;
   auto route = shortest_route(segments, p.from, p.to);
   transport_->close(id);
   if (route || (config_.max_attempts != 0 && p.attempts >= config_.max_attempts)) {
@@ -225,8 +234,11 @@ void RoutePlanner::ignore(const TransportInform& i, std::string_view reason) {
 
 Result<Conveyor> Conveyor::create(ConveyorTransport& transport, const Clock& clock, ConveyorConfig config) {
   SF_TRY(validate_name("conveyor", config.name));
-  SF_TRY(validate_name("location", config.from));
-  SF_TRY(validate_name("location", config.to));
+  if (config.backend != nullptr) {
+    return Conveyor{transport, clock, std::move(config)};  // the backend names the segments
+  }
+  SF_TRY(validate_location(config.from));
+  SF_TRY(validate_location(config.to));
   if (config.from == config.to) {
     return Error{Errc::invalid_argument,
                  fmt::format("conveyor {} goes from {} to itself", config.name, config.from)};
@@ -251,17 +263,56 @@ void Conveyor::on_request(const TransportRequest& r) {
     log_->info("{} ignored REQUEST {}: duplicate", config_.name, r.conversation);
     return;
   }
-  const auto start = std::max(r.earliest_start, clock_->utc_now());
-  const TransportInform inform{
-      r.conversation,       config_.name,
-      config_.from,         config_.to,
-      config_.transit_time, start + std::chrono::duration_cast<UtcTime::duration>(config_.transit_time)};
-  if (auto st = transport_->inform(inform); !st) {
-    log_->warn("{}: INFORM {} failed: {}", config_.name, r.conversation, st.error().describe());
+  const auto offered = hops(r);
+  if (offered.empty()) {
+    ++silent_;
     answered_.erase(r.conversation);
     return;
   }
-  ++informs_;
+  const auto now = clock_->utc_now();
+  for (const Hop& h : offered) {
+    const auto start =
+        std::max(r.earliest_start, now + std::chrono::duration_cast<UtcTime::duration>(h.start_in));
+    const TransportInform inform{r.conversation,
+                                 config_.name,
+                                 h.from,
+                                 h.to,
+                                 h.transit_time,
+                                 start + std::chrono::duration_cast<UtcTime::duration>(h.transit_time),
+                                 static_cast<std::uint16_t>(offered.size())};
+    if (auto st = transport_->inform(inform); !st) {
+      log_->warn("{}: INFORM {} failed: {}", config_.name, r.conversation, st.error().describe());
+      return;  // the product composes without the rest when its window closes
+    }
+    ++informs_;
+  }
+}
+
+std::vector<Hop> Conveyor::hops(const TransportRequest& r) {
+  if (config_.backend == nullptr) {
+    return {Hop{config_.from, config_.to, config_.transit_time, {}}};
+  }
+  std::string why_not;
+  auto offered = config_.backend->segments(r, why_not);
+  // A segment that cannot travel on the wire is left out, with the reason.
+  std::erase_if(offered, [&](const Hop& h) {
+    auto st = validate_location(h.from);
+    if (st) {
+      st = validate_location(h.to);
+    }
+    if (!st) {
+      log_->warn("{}: segment {} -> {} left out: {}", config_.name, h.from, h.to, st.error().message);
+    }
+    return !st || h.from == h.to || h.transit_time.count() < 0;
+  });
+  if (offered.size() > std::numeric_limits<std::uint16_t>::max()) {
+    offered.resize(std::numeric_limits<std::uint16_t>::max());
+  }
+  if (offered.empty()) {
+    log_->info("{} does not answer REQUEST {}: {}", config_.name, r.conversation,
+               why_not.empty() ? "no segment to offer" : why_not);
+  }
+  return offered;
 }
 
 void Conveyor::on_request_closed(const std::string& conversation) {

@@ -32,25 +32,33 @@ TEST(Codec, AnnounceRoundTrip) {
 TEST(Codec, EveryContractorMessageKindRoundTrips) {
   const std::vector<ContractorBody> bodies{Bid{kT, kT + 5s, 2.5, 4}, Refuse{0, "busy"}, Confirm{2},
                                            InformDone{2, "done"}, Failure{2, "jammed"}};
+  codec::ParamStorage storage;
   for (const auto& body : bodies) {
     const ContractorMessage m{"c", "M1", "OP2", 7, body};
-    auto s = codec::encode(m);
+    auto s = codec::encode(m, storage);
     ASSERT_TRUE(s.ok());
     auto back = codec::decode(*s);
     ASSERT_TRUE(back.ok());
     EXPECT_EQ(describe(*back), describe(m));
     EXPECT_EQ(back->body.index(), body.index());
   }
-  auto bid = codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Bid{kT, kT + 5s, 2.5, 4}}));
+  auto bid = codec::decode(
+      *codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Bid{kT, kT + 5s, 2.5, 4}}, storage));
   const auto& b = std::get<Bid>(bid->body);
   EXPECT_EQ(b.estimated_start, kT);
   EXPECT_EQ(b.estimated_finish, kT + 5s);
   EXPECT_DOUBLE_EQ(b.cost, 2.5);
   EXPECT_EQ(b.queue_length, 4U);
   auto refuse =
-      codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Refuse{3, "queue full"}}));
+      codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, Refuse{3, "queue full"}}, storage));
   EXPECT_EQ(std::get<Refuse>(refuse->body).reason, "queue full");
   EXPECT_EQ(std::get<Refuse>(refuse->body).award_id, 3U);
+  const InformDone uploaded{1, "box 7 at conveyor1/upload", {{"box", 7}, {"weight_g", 40.5}}};
+  auto done = codec::decode(*codec::encode(ContractorMessage{"c", "M1", "OP2", 1, uploaded}, storage));
+  ASSERT_TRUE(done.ok()) << done.error().describe();
+  EXPECT_EQ(std::get<InformDone>(done->body).results, uploaded.results);
+  const std::vector<Param> nine(kMaxParams + 1, Param{"x", 1.0});
+  EXPECT_FALSE(codec::encode(ContractorMessage{"c", "M1", "OP2", 1, InformDone{1, "", nine}}, storage));
 }
 
 TEST(Codec, EveryManagerMessageKindRoundTrips) {
@@ -90,32 +98,40 @@ TEST(Codec, TransportMessagesRoundTrip) {
   EXPECT_EQ(r->from, "Input");
   EXPECT_EQ(r->to, "M2");
   EXPECT_EQ(r->earliest_start, kT);
-  auto i = codec::decode(*codec::encode(TransportInform{"r", "C1", "Input", "M1", 1500ms, kT}));
+  auto i = codec::decode(
+      *codec::encode(TransportInform{"r", "C1", "conveyor1/upload", "conveyor3", 1500ms, kT, 2}));
   EXPECT_EQ(i->conveyor, "C1");
+  EXPECT_EQ(i->from, "conveyor1/upload");
   EXPECT_EQ(i->transit_time, 1500ms);
   EXPECT_EQ(i->eta, kT);
+  EXPECT_EQ(i->hops, 2U);
+  auto none = *codec::encode(TransportInform{"r", "C1", "A", "B", 1s, kT});
+  none.hops = 0;  // an INFORM is a segment: a count of none is a peer's bug
+  EXPECT_FALSE(codec::decode(none).ok());
 }
 
 TEST(Codec, EncodingRefusesWhatDoesNotFitTheBounds) {
   codec::ParamStorage storage;
   const std::string long_name(32, 'x');
-  auto e = codec::encode(ContractorMessage{"c", long_name, "OP1", 1, Confirm{1}});
+  auto e = codec::encode(ContractorMessage{"c", long_name, "OP1", 1, Confirm{1}}, storage);
   ASSERT_FALSE(e.ok());
   EXPECT_EQ(e.error().code, Errc::limit_exceeded);
   EXPECT_FALSE(codec::encode(Announce{std::string(64, 'c'), "P", "OP1", 1, {}, kT}, storage).ok());
   EXPECT_FALSE(codec::encode(Announce{"c", "P", "OP1", 1, std::vector<Param>(9), kT}, storage).ok());
-  EXPECT_FALSE(codec::encode(ContractorMessage{"c", "M", "OP1", 1, Failure{1, std::string(96, 'r')}}).ok());
-  EXPECT_TRUE(codec::encode(ContractorMessage{"c", std::string(31, 'x'), "OP1", 1, Confirm{1}}).ok());
+  EXPECT_FALSE(
+      codec::encode(ContractorMessage{"c", "M", "OP1", 1, Failure{1, std::string(96, 'r')}}, storage).ok());
+  EXPECT_TRUE(
+      codec::encode(ContractorMessage{"c", std::string(31, 'x'), "OP1", 1, Confirm{1}}, storage).ok());
 }
 
 TEST(Codec, DecodingRefusesMalformedSamples) {
-  auto s = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  codec::ParamStorage storage;
+  auto s = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}}, storage);
   s.body._d = static_cast<sf_cnp_ContractorKind>(7);
   auto m = codec::decode(s);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(m.error().code, Errc::malformed);
 
-  codec::ParamStorage storage;
   auto a = *codec::encode(Announce{"c", "P", "OP1", 1, {{"p", 1.0}}, kT}, storage);
   a.params._length = 1000;  // more than the bound and than the buffer
   EXPECT_FALSE(codec::decode(a).ok());
@@ -143,7 +159,7 @@ TEST(Codec, KeysAreTheHashesOfTheirStrings) {
   const auto a = *codec::encode(Announce{"P1/OP1/ab.1", "P1", "OP1", 1, {}, kT}, storage);
   EXPECT_EQ(a.conversation_hash, codec::key_hash("P1/OP1/ab.1"));
   EXPECT_EQ(codec::announce_key("P1/OP1/ab.1").conversation_hash, a.conversation_hash);
-  const auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  const auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}}, storage);
   EXPECT_EQ(b.conversation_hash, codec::key_hash("c"));
   EXPECT_EQ(b.contractor_hash, codec::key_hash("M1"));
   const auto k = codec::contractor_key("c", "M1");
@@ -158,12 +174,12 @@ TEST(Codec, KeysAreTheHashesOfTheirStrings) {
 
 // A hash that is not its string's would put the sample in another conversation's instance.
 TEST(Codec, DecodingRefusesAKeyHashThatIsNotItsStrings) {
-  auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}});
+  codec::ParamStorage storage;
+  auto b = *codec::encode(ContractorMessage{"c", "M1", "OP1", 1, Confirm{1}}, storage);
   b.contractor_hash ^= 1;
   auto m = codec::decode(b);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(m.error().code, Errc::malformed);
-  codec::ParamStorage storage;
   auto a = *codec::encode(Announce{"c", "P", "OP1", 1, {}, kT}, storage);
   a.conversation_hash = codec::key_hash("d");
   EXPECT_FALSE(codec::decode(a).ok());

@@ -340,9 +340,11 @@ TEST_F(ContractorTest, ABackendGetsTheConfirmedJobAndItsReportEndsIt) {
   c.tick();  // time alone ends nothing: the backend reports
   EXPECT_TRUE(transport.of_kind<InformDone>().empty());
   EXPECT_EQ(c.next_deadline(), std::nullopt);
-  ASSERT_TRUE(c.report("a", true, "3 toffee in slots 4-6"));
+  ASSERT_TRUE(c.report("a", true, "3 toffee in slots 4-6", {{"placed", 3}}));
   ASSERT_EQ(transport.of_kind<InformDone>().size(), 1U);
-  EXPECT_EQ(std::get<InformDone>(transport.sent.back().body).result, "3 toffee in slots 4-6");
+  const auto& done = std::get<InformDone>(transport.sent.back().body);
+  EXPECT_EQ(done.result, "3 toffee in slots 4-6");
+  EXPECT_EQ(done.results, (std::vector<Param>{{"placed", 3}}));
   EXPECT_EQ(finished, (std::vector<std::pair<std::string, bool>>{{"a", true}}));
   EXPECT_FALSE(c.report("a", true, "again"));  // no such job any more
 }
@@ -360,14 +362,34 @@ TEST_F(ContractorTest, ABackendsFailedStartOrReportIsAFailureAndACancelAbortsIt)
   backend.fail_start = false;
   c.on_announce(announce("b"));
   c.on_manager_message(award("b", 1));
-  ASSERT_TRUE(c.report("b", false, "dispenser empty"));
-  EXPECT_EQ(std::get<Failure>(transport.sent.back().body).reason, "dispenser empty");
+  ASSERT_TRUE(c.report("b", false, "dispenser empty: " + std::string(200, '.')));
+  EXPECT_EQ(std::get<Failure>(transport.sent.back().body).reason.size(), kMaxText);  // fits the wire
   c.on_announce(announce("c"));
   c.on_manager_message(award("c", 1));
   c.on_manager_message(cancel("c", 1));
   ASSERT_EQ(backend.aborted.size(), 1U);
   EXPECT_EQ(backend.aborted[0].first, "c");
   EXPECT_TRUE(c.jobs().empty());
+}
+
+// A directed award comes without an announcement: its own parameters are the work's, and a
+// backend that would not do the work refuses it (the manager then announces).
+TEST_F(ContractorTest, ADirectedAwardAsksTheBackendWithItsOwnParameters) {
+  RecordingBackend backend;
+  ContractorConfig cfg{"M1", {{"OP1", 100ms, 1.0}}};
+  cfg.backend = &backend;
+  auto c = make(cfg);
+  const std::vector<Param> params{{"box", 7}, {"from", 1}, {"to", 4}};
+  c.on_manager_message({"d", "P1", "OP1", "M1", 0, DirectedAward{1, clock.utc_now() + 50ms, params}});
+  EXPECT_EQ(backend.last_params, params);
+  EXPECT_EQ(transport.of_kind<Confirm>().size(), 1U);
+  EXPECT_EQ(backend.started, std::vector<std::string>{"d"});
+  EXPECT_EQ(backend.start_params, params);
+
+  backend.willing = false;
+  c.on_manager_message({"e", "P1", "OP1", "M1", 0, DirectedAward{1, clock.utc_now() + 50ms, params}});
+  EXPECT_EQ(std::get<Refuse>(transport.sent.back().body).reason, "held by the operator");
+  EXPECT_EQ(backend.started.size(), 1U);
 }
 
 }  // namespace

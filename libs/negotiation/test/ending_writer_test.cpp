@@ -41,7 +41,8 @@ class EndingWriterTest : public ::testing::Test {
   void bid(const std::string& conversation) {
     const ContractorMessage m{conversation, "M1", "OP1", 1, Bid{}};
     names[codec::key_hash(conversation)] = conversation;
-    ASSERT_TRUE(writer->write(codec::encode(m).value()).ok());
+    codec::ParamStorage storage;
+    ASSERT_TRUE(writer->write(codec::encode(m, storage).value()).ok());
   }
   Status end(const std::string& conversation) {
     return writer->end_later(codec::contractor_key(conversation, "M1"));

@@ -29,7 +29,10 @@ class ManagerTest : public ::testing::Test {
   std::string start(Manager& m, std::string directed = {}) {
     auto id = m.negotiate({"P1", "OP1", {{"speed", 2.0}}, std::move(directed)},
                           {[this](const Conversation& c) { confirmed.push_back(c.contractor); },
-                           [this](const Conversation& c) { done.push_back(c.contractor); },
+                           [this](const Conversation& c) {
+                             done.push_back(c.contractor);
+                             results = c.results;
+                           },
                            [this](const Conversation& c) { failed.push_back(c.failure); }});
     EXPECT_TRUE(id.ok());
     return *id;
@@ -44,6 +47,7 @@ class ManagerTest : public ::testing::Test {
   test::RecordingManagerTransport transport;
   std::vector<std::string> confirmed;
   std::vector<std::string> done;
+  std::vector<Param> results;  // of the last INFORM-DONE
   std::vector<std::string> failed;
 };
 
@@ -134,8 +138,9 @@ TEST_F(ManagerTest, ConfirmStartsWorkAndInformDoneEndsTheConversation) {
   ASSERT_NE(c, nullptr);
   EXPECT_EQ(c->phase, Phase::Working);
   EXPECT_EQ(c->confirmed_at - c->started_at, 5ms);
-  m.on_contractor_message(from(id, "M1", 1, InformDone{1, "ok"}));
+  m.on_contractor_message(from(id, "M1", 1, InformDone{1, "ok", {{"box", 7}}}));
   EXPECT_EQ(done, std::vector<std::string>{"M1"});
+  EXPECT_EQ(results, (std::vector<Param>{{"box", 7}}));  // the product learns what it needs
   EXPECT_EQ(m.find(id), nullptr);
   EXPECT_EQ(transport.closed, std::vector<std::string>{id});
   EXPECT_EQ(m.stats().done, 1U);

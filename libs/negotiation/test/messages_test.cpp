@@ -51,6 +51,25 @@ std::vector<std::string> order(const SelectionPolicy& p, const std::vector<Ranke
   return out;
 }
 
+TEST(Messages, LocationsMayNameABeltsStation) {
+  EXPECT_TRUE(validate_location("conveyor3/toshiba").ok());
+  EXPECT_TRUE(validate_location("Input").ok());
+  EXPECT_FALSE(validate_location("").ok());
+  EXPECT_FALSE(validate_location("conveyor 3").ok());
+  EXPECT_FALSE(validate_location(std::string(kMaxName + 1, 'c')).ok());
+  EXPECT_FALSE(validate_name("machine", "conveyor3/toshiba").ok());  // names stay without '/'
+}
+
+// Reasons and results come from controllers and their devices: too long for the wire, they are
+// cut (never inside a UTF-8 sequence) rather than the message lost.
+TEST(Messages, TextIsCutToTheWireBound) {
+  EXPECT_EQ(fit_text("jammed"), "jammed");
+  EXPECT_EQ(fit_text(std::string(200, 'r')), std::string(kMaxText, 'r'));
+  const std::string degrees =
+      std::string(kMaxText - 1, 'x') + "\u00B0C";  // "°" (2 bytes) straddles the bound
+  EXPECT_EQ(fit_text(degrees), std::string(kMaxText - 1, 'x'));
+}
+
 TEST(Selection, PoliciesRankAsNamed) {
   const UtcTime t0{};
   const std::vector<RankedBid> bids{

@@ -70,8 +70,8 @@ class PlannerTest : public ::testing::Test {
     c.incarnation = 0xf;
     return RoutePlanner{transport, clock, c};
   }
-  TransportInform inform(const std::string& conv, const Segment& s) {
-    return {conv, s.conveyor, s.from, s.to, s.transit_time, clock.utc_now() + s.transit_time};
+  TransportInform inform(const std::string& conv, const Segment& s, std::uint16_t hops = 1) {
+    return {conv, s.conveyor, s.from, s.to, s.transit_time, clock.utc_now() + s.transit_time, hops};
   }
 
   ManualClock clock;
@@ -141,6 +141,27 @@ TEST_F(PlannerTest, DuplicateAndMalformedInformsAreIgnored) {
   EXPECT_TRUE(results.empty());
 }
 
+// A belt with stations serves a segment per stretch: its answer is complete with its last hop.
+TEST_F(PlannerTest, AConveyorOfSeveralSegmentsHasAnsweredWithItsLastHop) {
+  auto p = make();
+  transport.conveyor_count = 2;
+  auto id = p.plan("P1", "conveyor1/upload", "conveyor3/toshiba", record);
+  ASSERT_TRUE(id.ok()) << id.error().describe();
+  p.on_inform(inform(*id, {"conveyor3", "conveyor3", "conveyor3/toshiba", 5400ms}, 2));
+  p.on_inform(inform(*id, {"conveyor1", "conveyor1/upload", "conveyor2", 3400ms}, 2));
+  EXPECT_TRUE(results.empty());  // conveyor1 has a second segment to come
+  p.on_inform(inform(*id, {"conveyor1", "conveyor1/upload", "conveyor2", 3400ms}, 2));
+  EXPECT_EQ(p.ignored(), 1U);  // a duplicate does not complete it
+  EXPECT_TRUE(results.empty());
+  p.on_inform(inform(*id, {"conveyor1", "conveyor1/upload", "conveyor3", 3400ms}, 2));
+  EXPECT_TRUE(results.empty());  // conveyor3 still owes one
+  p.on_inform(inform(*id, {"conveyor3", "conveyor3/toshiba", "conveyor4", 1800ms}, 2));
+  ASSERT_EQ(results.size(), 1U);
+  ASSERT_TRUE(results[0].ok());
+  EXPECT_EQ(results[0]->describe(),
+            "conveyor1/upload -conveyor1-> conveyor3 -conveyor3-> conveyor3/toshiba (8.800 s)");
+}
+
 TEST_F(PlannerTest, SamePlaceNeedsNoRequest) {
   auto p = make();
   ASSERT_TRUE(p.plan("P1", "M1", "M1", record).ok());
@@ -169,6 +190,43 @@ TEST(ConveyorRole, InformsItsSegmentOncePerRequest) {
   c->on_request_closed("r1");
   EXPECT_EQ(t.closed, std::vector<std::string>{"r1"});
   EXPECT_FALSE(Conveyor::create(t, clock, {"C2", "A", "A", 1s}).ok());
+}
+
+// Segments from a real controller (ConveyorBackend): one INFORM per segment, each telling how
+// many there are, the ETA after the belt's queue; nothing at all while the backend has none.
+class Belt final : public ConveyorBackend {
+ public:
+  std::vector<Hop> segments(const TransportRequest& /*request*/, std::string& why_not) override {
+    if (jammed) {
+      why_not = "jammed";
+      return {};
+    }
+    return {{"conveyor4", "conveyor4/denso", 2s, 1s},
+            {"conveyor4/denso", "conveyor4/download", 3200ms, 1s},
+            {"conveyor4/download", "conveyor4/download", 1s, 0s}};  // not a segment: left out
+  }
+  bool jammed = false;
+};
+
+TEST(ConveyorRole, InformsEveryRealSegmentOrNothing) {
+  ManualClock clock;
+  test::RecordingContractorTransport t;
+  Belt belt;
+  ConveyorConfig cfg{"conveyor4", {}, {}, 0s, &belt};
+  auto c = Conveyor::create(t, clock, cfg);
+  ASSERT_TRUE(c.ok()) << c.error().describe();
+  c->on_request({"r1", "P1", "conveyor4", "conveyor4/download", clock.utc_now()});
+  ASSERT_EQ(t.informs.size(), 2U);
+  EXPECT_EQ(t.informs[1].from, "conveyor4/denso");
+  EXPECT_EQ(t.informs[1].to, "conveyor4/download");
+  EXPECT_EQ(t.informs[1].transit_time, 3200ms);
+  EXPECT_EQ(t.informs[1].eta, clock.utc_now() + 1s + 3200ms);
+  EXPECT_EQ(t.informs[0].hops, 2U);
+  EXPECT_EQ(t.informs[1].hops, 2U);
+  belt.jammed = true;
+  c->on_request({"r2", "P1", "conveyor4", "conveyor4/download", clock.utc_now()});
+  EXPECT_EQ(t.informs.size(), 2U);
+  EXPECT_EQ(c->silent(), 1U);
 }
 
 }  // namespace

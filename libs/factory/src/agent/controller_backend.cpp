@@ -14,12 +14,23 @@ Operation to_operation(const std::string& type, const std::vector<negotiation::P
   return op;
 }
 
+std::vector<negotiation::Param> to_params(const std::map<std::string, double>& results) {
+  std::vector<negotiation::Param> out;
+  for (const auto& [name, value] : results) {
+    if (out.size() < negotiation::kMaxParams && !name.empty() && name.size() <= negotiation::kMaxName) {
+      out.push_back({name, value});
+    }
+  }
+  return out;
+}
+
 ControllerBackend::ControllerBackend(MachineController& controller) : controller_(&controller) {
   controller_->on_job_end([this](const JobOutcome& outcome) {
     if (contractor_ == nullptr) {
       return;
     }
-    if (auto st = contractor_->report(outcome.job, outcome.ok, outcome.detail); !st) {
+    if (auto st = contractor_->report(outcome.job, outcome.ok, outcome.detail, to_params(outcome.results));
+        !st) {
       log::get("factory")->warn("{}: {}", controller_->identification().name, st.error().message);
     }
   });

@@ -112,11 +112,8 @@ std::optional<Estimate> SmartRobot::estimate(const Operation& op, std::string* w
 
 Status SmartRobot::submit(const std::string& job, const Operation& op) {
   std::string why;
-  auto e = estimate(op, &why);
-  if (!e) {
-    return make_error(Errc::state, fmt::format("{} declines {}: {}", config_.robot, op.type, why));
-  }
-  return jobs_.add(job, op, e->duration);
+  const auto e = estimate(op, &why);
+  return jobs_.admit(config_.robot, job, op, e, why);
 }
 
 Status SmartRobot::cancel(const std::string& job) {
@@ -126,11 +123,7 @@ Status SmartRobot::cancel(const std::string& job) {
 // --- operators --------------------------------------------------------------
 
 Status SmartRobot::command(PackMLCommand command) {
-  std::optional<StopReason> why;
-  if (command == PackMLCommand::Stop || command == PackMLCommand::Hold || command == PackMLCommand::Abort) {
-    why = StopReason{0, fmt::format("operator: {}", to_string(command)), {}};
-  }
-  SF_TRY(unit_.command(command, std::move(why)));
+  SF_TRY(unit_.command(command, operator_stop_reason(command)));
   if (command == PackMLCommand::Reset) {
     reset_step_ = ResetStep::enable;
   }
@@ -142,11 +135,7 @@ Status SmartRobot::command(PackMLCommand command) {
 ControllerStatus SmartRobot::status() const {
   ControllerStatus s;
   s.packml = unit_.status();
-  if (const QueuedJob* j = jobs_.current()) {
-    s.job = j->id;
-    s.operation = j->op;
-  }
-  s.queued = jobs_.queued();
+  jobs_.show(s);
   if (!started_) {
     s.fault = "not started";
     return s;
@@ -232,10 +221,8 @@ void SmartRobot::auto_start() {
   }
   if (unit_.state() == S::Stopped) {
     reset_step_ = ResetStep::enable;
-    (void)unit_.command(PackMLCommand::Reset);
-  } else if (unit_.state() == S::Idle) {
-    (void)unit_.command(PackMLCommand::Start);
-  } else if (unit_.state() == S::Execute) {
+  }
+  if (unit_.advance_to_execute()) {
     auto_start_pending_ = false;
   }
 }

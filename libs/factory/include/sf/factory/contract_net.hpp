@@ -4,6 +4,7 @@
 // become INFORM-DONE or FAILURE to the product.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ namespace sf::factory {
 
 // Contract Net parameters ↔ an Operation.
 Operation to_operation(const std::string& type, const std::vector<negotiation::Param>& params);
+// A job's typed results as INFORM-DONE carries them: those whose names fit the IDL's bound, at
+// most kMaxParams of them, in name order (the result text says the rest).
+std::vector<negotiation::Param> to_params(const std::map<std::string, double>& results);
 
 class ControllerBackend final : public negotiation::WorkBackend {
  public:

@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sf/core/result.hpp"
@@ -28,6 +30,12 @@ class JobQueue {
  public:
   // Refused (Errc::invalid_argument) when the id is empty or already in use.
   Status add(std::string id, Operation op, std::chrono::nanoseconds estimate);
+  // MachineController::submit: `op` queued with the controller's estimate, or refused (Errc::state:
+  // "<machine> declines <op>: <why_not>") when it gave none.
+  Status admit(std::string_view machine, std::string id, const Operation& op,
+               const std::optional<Estimate>& estimate, std::string_view why_not);
+  // The job in work, its operation and the queue's length, as ControllerStatus shows them.
+  void show(ControllerStatus& status) const;
   // A queued job ends at once ("cancelled before it started"); the one in
   // work is flagged (QueuedJob::cancel). Errc::not_found for an unknown id.
   Status cancel(const std::string& id);
@@ -36,8 +44,8 @@ class JobQueue {
   [[nodiscard]] const QueuedJob* current() const { return current_ ? &*current_ : nullptr; }
   // Moves the next queued job into work; false when there is none.
   bool begin_next();
-  // The job in work ends with `ok` and `detail`.
-  void finish(bool ok, std::string detail);
+  // The job in work ends with `ok`, `detail` and its typed results (JobOutcome::results).
+  void finish(bool ok, std::string detail, std::map<std::string, double> results = {});
   // Every queued job fails with "<why> before it started" (the one in work
   // must have been finished first).
   void drop_queued(const std::string& why);

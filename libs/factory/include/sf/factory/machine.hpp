@@ -33,7 +33,8 @@ namespace sf::factory {
 //   "load"      pick-and-place params: candy (catalog index), count, box (id), slot (first
 //                              slot, 0-based, row by row), box_type (catalog index)
 //   "download"  box-unloading  params: box (id)
-//   "transport" conveying      params: box (id), from, to (station indexes of the layout)
+//   "transport" conveying      params: box (id), from, to (place indexes: conveying.hpp, a
+//                                      station or a belt's entry)
 inline constexpr std::string_view kUpload = "upload";
 inline constexpr std::string_view kLoad = "load";
 inline constexpr std::string_view kDownload = "download";
@@ -59,6 +60,9 @@ struct JobOutcome {
   std::string job;  // the id given to submit()
   bool ok = false;
   std::string detail;  // the result (e.g. "3 toffee in slots 4-6") or why it failed
+  // What the product needs to go on, typed as Operation::params are: "box" (the id of an
+  // uploaded box), "weight_g" and "count.<candy>" (an inspection), "placed" (candies loaded).
+  std::map<std::string, double> results{};
 };
 
 // Machinery-style identification (OPC 40001-1 §8: Manufacturer, Model,

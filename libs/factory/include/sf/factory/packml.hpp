@@ -70,6 +70,11 @@ struct StopReason {
   Clock::utc_time at{};
 };
 
+// The stop reason an operator's Stop, Hold or Abort leaves ("operator: Hold"); nothing for the
+// other commands.
+inline constexpr std::int32_t kStopOperator = 0;
+std::optional<StopReason> operator_stop_reason(PackMLCommand command);
+
 // PackML Admin/Status as a value (for OPC UA and OEE).
 struct PackMLStatus {
   PackMLState state = PackMLState::Stopped;
@@ -92,6 +97,9 @@ class PackMLUnit {
   // Hold, Stop and Abort may carry why (the stop reason operators see).
   Status command(PackMLCommand command, std::optional<StopReason> why = std::nullopt);
   [[nodiscard]] bool accepts(PackMLCommand command) const;
+  // A start without an operator (a controller configured to start by itself), one step per
+  // call: Reset in Stopped, Start in Idle. True once in Execute.
+  bool advance_to_execute();
   // The acting state's work is done: on to the next state (SC). Refused in a
   // wait state other than Execute (Execute's SC is the end of production).
   Status state_complete();

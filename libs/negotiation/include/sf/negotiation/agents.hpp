@@ -77,6 +77,8 @@ struct ProductAgentConfig {
   std::string start = "Input";
   bool route = true;
   std::map<std::string, std::string> directed;
+  std::map<std::string, std::vector<Param>> params;  // see ProductPlan
+  std::vector<std::string> carry{"box"};
   ManagerConfig manager;
   RouteConfig routing;
   SelectionPolicy policy = earliest_finish();

@@ -125,9 +125,10 @@ class Contractor final : public ContractorInbox {
   // Finishes jobs whose time is up and starts the next; forgets old bids.
   void tick();
   // With a WorkBackend: the job of this conversation ended; INFORM-DONE (ok,
-  // with `detail` as its result) or FAILURE (detail as the reason) goes to
-  // the manager. Errc::not_found when no such job is queued.
-  Status report(const std::string& conversation, bool ok, const std::string& detail);
+  // with `detail` as its result and `results` typed) or FAILURE (detail as
+  // the reason) goes to the manager. Errc::not_found when no such job is queued.
+  Status report(const std::string& conversation, bool ok, const std::string& detail,
+                std::vector<Param> results = {});
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const;
 
   [[nodiscard]] const std::string& name() const { return config_.name; }
@@ -159,15 +160,20 @@ class Contractor final : public ContractorInbox {
   [[nodiscard]] std::chrono::nanoseconds work_time(const Skill& s);
   [[nodiscard]] UtcTime to_utc(Clock::time_point t) const;
 
-  void on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTime confirm_by, bool directed);
+  // `directed`: the parameters of a DIRECTEDAWARD (no announcement preceded it); null for an AWARD.
+  void on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTime confirm_by,
+                const std::vector<Param>* directed);
   void on_cancel(const ManagerMessage& m, std::uint32_t award_id, const std::string& reason);
+  [[nodiscard]] std::optional<std::string> backend_declines(const ManagerMessage& m,
+                                                            const std::vector<Param>* directed);
   void accept(const ManagerMessage& m, std::uint32_t award_id, const Skill& s);
   void refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason);
   void drop_job(const std::string& conversation, const std::string& why);
   void start_head(Clock::time_point at);
   void finish_head();
   void bid_from_backend(const Announce& a, Offer& offer);
-  void end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail);
+  void end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail,
+               std::vector<Param> results = {});
   // Finishes the jobs whose work is over at `now` (tick; and at once a job that takes no time).
   void finish_due(Clock::time_point now);
   Status send(const std::string& conversation, const std::string& operation, std::uint32_t round,

@@ -91,6 +91,8 @@ struct Conversation {
   Clock::time_point confirmed_at{};
   Clock::time_point timer = Clock::time_point::max();
   std::string failure;
+  std::string result;          // of the INFORM-DONE
+  std::vector<Param> results;  // of the INFORM-DONE, typed
   ConversationEvents events;
 };
 

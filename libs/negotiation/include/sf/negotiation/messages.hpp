@@ -58,6 +58,7 @@ struct Confirm {
 struct InformDone {
   std::uint32_t award_id = 0;
   std::string result;
+  std::vector<Param> results{};  // typed results: an uploaded box's id, an inspection's counts
 };
 struct Failure {
   std::uint32_t award_id = 0;
@@ -114,7 +115,12 @@ struct TransportInform {
   std::string to;
   std::chrono::nanoseconds transit_time{0};
   UtcTime eta{};
+  std::uint16_t hops = 1;  // INFORMs (segments) this conveyor sends for the request, this one included
 };
+
+// `text` cut to the IDL's Text bound (kMaxText bytes, not inside a UTF-8 sequence): a reason or
+// result too long for the wire is shortened rather than its message lost.
+std::string fit_text(std::string_view text);
 
 // "BID", "REFUSE", "CONFIRM", "INFORM-DONE", "FAILURE"
 std::string_view kind_name(const ContractorBody& body);
@@ -138,6 +144,10 @@ inline constexpr std::string_view kInformTopic = "INFORM";
 // operation type also becomes part of topic names, so it is further limited
 // to [A-Za-z0-9_] and 22 characters ("_ANNOUNCE" must still fit in 31).
 Status validate_name(std::string_view what, std::string_view name);
+// A location of the conveyor graph (a machine, a place such as Input, a belt's station
+// "conveyor3/toshiba"): a name that may also hold '/'. Locations never become topic names or
+// conversation ids.
+Status validate_location(std::string_view location);
 Status validate_operation(std::string_view operation);
 Result<std::vector<std::string>> parse_operations(std::string_view comma_separated);
 

@@ -26,9 +26,13 @@ namespace sf::negotiation {
 struct ProductPlan {
   std::string name;
   std::vector<std::string> operations;
-  std::string start = "Input";                  // where the product enters the conveyor graph
-  bool route = true;                            // negotiate conveyor routes between machines
-  std::map<std::string, std::string> directed;  // operation → contractor: DIRECTEDAWARD first
+  std::string start = "Input";                         // where the product enters the conveyor graph
+  bool route = true;                                   // negotiate conveyor routes between machines
+  std::map<std::string, std::string> directed{};       // operation → contractor: DIRECTEDAWARD first
+  std::map<std::string, std::vector<Param>> params{};  // operation → the parameters it is announced with
+  // Results of a done step (INFORM-DONE) that later steps are announced with, unless their own
+  // parameters set them: what the product learns about itself, e.g. the id of its uploaded box.
+  std::vector<std::string> carry{"box"};
 };
 
 struct Step {
@@ -39,6 +43,8 @@ struct Step {
   std::uint32_t renegotiations = 0;
   std::chrono::nanoseconds negotiation_time{0};  // ANNOUNCE → confirmed AWARD
   std::optional<Route> route;
+  std::string result;          // of the INFORM-DONE
+  std::vector<Param> results;  // of the INFORM-DONE, typed
 };
 
 struct ProductEvents {
@@ -71,6 +77,7 @@ class Product {
   void on_done(const Conversation& c);
   void maybe_complete_step();
   void finish(std::string failure);
+  [[nodiscard]] std::vector<Param> params_of(const std::string& operation) const;
 
   Manager* manager_;
   RoutePlanner* planner_;
@@ -86,6 +93,7 @@ class Product {
   bool finished_ = false;
   std::string failure_;
   std::vector<Step> steps_;
+  std::vector<Param> carried_;  // results named in plan_.carry, latest value each
 };
 
 }  // namespace sf::negotiation

@@ -1,8 +1,11 @@
 // Conveyor route negotiation in the ConveyingDomain (paper §IV.B): a product
-// REQUESTs transport from A to B; every conveyor INFORMs it of the segment it
-// serves (conveyors know their own from/to only) and its transit time; the
-// product composes the route from the INFORMs, shortest by ETA (Dijkstra over
-// the conveyor graph, transit times as weights).
+// REQUESTs transport from A to B; every conveyor INFORMs it of the segments it
+// serves (conveyors know their own from/to only; a belt with stations serves
+// one segment per stretch between them) and their transit times; the product
+// composes the route from the INFORMs, shortest by ETA (Dijkstra over the
+// conveyor graph, transit times as weights). Carrying the product along the
+// route is work awarded to each conveyor on the route ("transport", a
+// contractor's operation backed by the conveyor's controller).
 #pragma once
 
 #include <chrono>
@@ -74,7 +77,9 @@ class RoutePlanner final : public RouteInbox {
     std::string from;
     std::string to;
     std::uint32_t attempts = 0;
-    std::map<std::string, Segment> segments;  // by conveyor
+    std::vector<Segment> segments;
+    std::map<std::string, std::uint16_t> missing;  // by conveyor: hops still to come
+    std::size_t complete = 0;                      // conveyors whose every hop arrived
     Clock::time_point deadline{};
     bool waiting_retry = false;
     RouteCallback done;
@@ -93,12 +98,33 @@ class RoutePlanner final : public RouteInbox {
   log::Logger log_;
 };
 
-// The conveyor role: answers every REQUEST with its own segment.
-struct ConveyorConfig {
-  std::string name;
+// A segment a conveyor offers for a REQUEST (ConveyorBackend).
+struct Hop {
   std::string from;
   std::string to;
+  std::chrono::nanoseconds transit_time{0};
+  std::chrono::nanoseconds start_in{0};  // until the belt is free for it (work queued before)
+};
+
+// Where a conveyor's segments come from when a real controller stands behind
+// it (a legacy conveyor's gateway, the factory module), as WorkBackend is for a
+// contractor. Without one, the conveyor offers its configured segment. Called
+// from the conveyor's thread.
+class ConveyorBackend {
+ public:
+  virtual ~ConveyorBackend() = default;
+  // The segments the belt serves now; none (why_not says why: faulted, held,
+  // its PLC unreachable) and the conveyor does not answer, so routes avoid it.
+  virtual std::vector<Hop> segments(const TransportRequest& request, std::string& why_not) = 0;
+};
+
+// The conveyor role: answers every REQUEST with its segments.
+struct ConveyorConfig {
+  std::string name;
+  std::string from;  // the one segment, without a backend
+  std::string to;
   std::chrono::nanoseconds transit_time{std::chrono::seconds{1}};
+  ConveyorBackend* backend = nullptr;  // real segments; must outlive the conveyor
 };
 
 class Conveyor final : public ConveyorInbox {
@@ -110,9 +136,11 @@ class Conveyor final : public ConveyorInbox {
   [[nodiscard]] const ConveyorConfig& config() const { return config_; }
   [[nodiscard]] std::uint64_t informs() const { return informs_; }
   [[nodiscard]] std::uint64_t ignored() const { return ignored_; }
+  [[nodiscard]] std::uint64_t silent() const { return silent_; }  // REQUESTs its backend had nothing for
 
  private:
   Conveyor(ConveyorTransport& transport, const Clock& clock, ConveyorConfig config);
+  [[nodiscard]] std::vector<Hop> hops(const TransportRequest& request);
 
   ConveyorTransport* transport_;
   const Clock* clock_;
@@ -120,6 +148,7 @@ class Conveyor final : public ConveyorInbox {
   std::set<std::string> answered_;
   std::uint64_t informs_ = 0;
   std::uint64_t ignored_ = 0;
+  std::uint64_t silent_ = 0;
   log::Logger log_;
 };
 

@@ -97,15 +97,20 @@ void print_ready(const fy::MachineProcess& p, bool as_json) {
                       {"link", c.ethercat.link},
                       {"cycle_us", c.ethercat.cycle.count()},
                       {"serial_number", r.identification.serial_number},
+                      {"opcua", r.opcua_endpoint},
+                      {"opcua_security", r.opcua_security},
                       {"machining_domain", c.controller.dds.machining_domain}}
                      .dump()
               << std::endl;
     return;
   }
-  std::cout << fmt::format("machine {} ({} {}, serial {}): EtherCAT {} every {} µs; DDS domain {} on {}\n",
-                           c.controller.machine, r.identification.manufacturer, r.identification.model,
-                           r.identification.serial_number, c.ethercat.link, c.ethercat.cycle.count(),
-                           c.controller.dds.machining_domain, c.controller.dds.interface)
+  std::cout << fmt::format(
+                   "machine {} ({} {}, serial {}): EtherCAT {} every {} µs; DDS domain {} on {}\n"
+                   "  OPC UA {} ({})\n",
+                   c.controller.machine, r.identification.manufacturer, r.identification.model,
+                   r.identification.serial_number, c.ethercat.link, c.ethercat.cycle.count(),
+                   c.controller.dds.machining_domain, c.controller.dds.interface, r.opcua_endpoint,
+                   r.opcua_security)
             << std::flush;
 }
 

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include "sf/core/log.hpp"
+#include "sf/opcua/server/nodeset.hpp"
+#include "sf/opcua/server/security_setup.hpp"
 
 namespace sf::factory {
 
@@ -57,6 +59,36 @@ MachineProcess::~MachineProcess() {
   if (thread_) {
     thread_->stop();
   }
+  host_.reset();
+  if (server_) {
+    server_->stop();
+  }
+}
+
+// The controller's OPC UA server with its machine model, serving.
+Status MachineProcess::serve_model() {
+  const ControllerSettings& c = setup_.config.controller;
+  opcua::server::ServerConfig config;
+  config.transport.port = c.opcua_port;
+  config.identity.application_name = fmt::format("smartfactory {}", c.machine);
+  auto security = opcua::server::configure_server_security(c.opcua_security, false, config);
+  if (!security) {
+    return Error(security.error()).with_context("OPC UA security");
+  }
+  security_text_ = *security;
+  server_ = std::make_unique<opcua::server::Server>(std::move(config), *clock_);
+  Status imported;
+  server_->with_address_space([&](opcua::server::AddressSpace& space) {
+    auto reports = opcua::server::import_nodeset_files(space, c.opcua_nodesets);
+    imported = reports ? Status{} : Status(reports.error());
+  });
+  SF_TRY(imported);
+  auto host = MachineHost::attach(*server_, *thread_, robot_->identification());
+  if (!host) {
+    return host.error();
+  }
+  host_ = std::move(*host);
+  return server_->start();
 }
 
 Result<std::unique_ptr<MachineProcess>> MachineProcess::create(MachineSetup setup, Clock& clock) {
@@ -76,6 +108,9 @@ Result<std::unique_ptr<MachineProcess>> MachineProcess::create(MachineSetup setu
   ControllerThreadOptions thread_options;
   thread_options.realtime = c.ethercat.realtime;
   p->thread_ = std::make_unique<ControllerThread>(*p->robot_, clock, thread_options);
+  if (auto served = p->serve_model(); !served) {
+    return Error(served.error()).with_context("the machine's OPC UA server");
+  }
   MachineProcess* self = p.get();
   p->remote_ = std::make_unique<RemoteController>(
       *p->thread_, p->robot_->identification(),
@@ -117,6 +152,8 @@ MachineReport MachineProcess::report() const {
   r.lateness_p50 = lateness.quantile(0.5);
   r.lateness_p99 = lateness.quantile(0.99);
   r.lateness_max = lateness.max();
+  r.opcua_endpoint = fmt::format("opc.tcp://{}:{}", "localhost", server_->port());
+  r.opcua_security = security_text_;
   return r;
 }
 

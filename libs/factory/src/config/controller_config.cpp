@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include "sf/opcua/security/provisioning.hpp"
+
 namespace sf::factory {
 
 namespace {
@@ -36,6 +38,38 @@ Status parse_dds(const Node& n, DdsOptions& d) {
   return {};
 }
 
+// A file name as given, or relative to the configuration's folder.
+std::string beside(const std::filesystem::path& base, const std::string& file) {
+  return file.empty() || std::filesystem::path(file).is_absolute() || base.empty() ? file
+                                                                                   : (base / file).string();
+}
+
+Status parse_opcua(const Node& n, ControllerSettings& s, const std::filesystem::path& base) {
+  SF_TRY(n.only_keys({"port", "modes", "policies", "users", "anonymous", "pki", "nodesets"}));
+  SF_TRY(n.read("port", s.opcua_port));
+  auto& sec = s.opcua_security;
+  for (auto [key, text] : {std::pair<std::string_view, std::string*>{"modes", &sec.modes},
+                           {"policies", &sec.policies},
+                           {"users", &sec.users},
+                           {"anonymous", &sec.anonymous},
+                           {"pki", &sec.pki}}) {
+    SF_TRY(n.read(key, *text));
+  }
+  if (auto modes = opcua::security::parse_security_modes(sec.modes); !modes) {
+    return n.child("modes")->error(modes.error().message);
+  }
+  if (auto policies = opcua::security::parse_security_policies(sec.policies); !policies) {
+    return n.child("policies")->error(policies.error().message);
+  }
+  sec.users = beside(base, sec.users);
+  sec.pki = beside(base, sec.pki);
+  SF_TRY(n.read("nodesets", s.opcua_nodesets));
+  for (auto& file : s.opcua_nodesets) {
+    file = beside(base, file);
+  }
+  return {};
+}
+
 }  // namespace
 
 negotiation::DdsSettings dds_settings(const DdsOptions& o) {
@@ -52,7 +86,7 @@ Status read_duration(const Node& n, std::string_view key, double unit_ms, std::c
   return {};
 }
 
-Status parse_controller_settings(const Node& root, ControllerSettings& s) {
+Status parse_controller_settings(const Node& root, ControllerSettings& s, const std::filesystem::path& base) {
   auto machine = root.get<std::string>("machine");
   if (!machine) {
     return machine.error();
@@ -70,9 +104,7 @@ Status parse_controller_settings(const Node& root, ControllerSettings& s) {
   s.auto_start = start == "execute";
   SF_TRY(read_duration(root, "job_timeout_s", kSeconds, s.job_timeout));
   if (root.has("opcua")) {
-    auto opcua = root.child("opcua");
-    SF_TRY(opcua->only_keys({"port"}));
-    SF_TRY(opcua->read("port", s.opcua_port));
+    SF_TRY(parse_opcua(*root.child("opcua"), s, base));
   }
   if (root.has("dds")) {
     SF_TRY(parse_dds(*root.child("dds"), s.dds));

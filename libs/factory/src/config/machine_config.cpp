@@ -44,7 +44,7 @@ Result<MachineSetup> parse(const Node& root, const std::filesystem::path& base) 
                          "ethercat", "pick_place"}));
   MachineSetup setup;
   MachineConfig& c = setup.config;
-  SF_TRY(parse_controller_settings(root, c.controller));
+  SF_TRY(parse_controller_settings(root, c.controller, base));
   if (root.has("ethercat")) {
     SF_TRY(parse_ethercat(*root.child("ethercat"), c.ethercat));
   }

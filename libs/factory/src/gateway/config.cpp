@@ -59,10 +59,10 @@ Result<GatewayKind> parse_kind(const Node& n) {
       fmt::format("unknown kind '{}' (known: conveyor, uploader, downloader, legacy-robot)", *text));
 }
 
-Status parse_root(const Node& root, GatewayConfig& c) {
+Status parse_root(const Node& root, GatewayConfig& c, const std::filesystem::path& base) {
   SF_TRY(root.only_keys({"machine", "kind", "layout", "serial_number", "start", "job_timeout_s", "modbus",
                          "opcua", "dds", "robot"}));
-  SF_TRY(parse_controller_settings(root, c.controller));
+  SF_TRY(parse_controller_settings(root, c.controller, base));
   auto kind_node = root.child("kind");
   if (!kind_node) {
     return kind_node.error();
@@ -131,7 +131,7 @@ Status check_station(const Node& root, const GatewayConfig& c, const line::Layou
 
 Result<GatewaySetup> parse(const Node& root, const std::filesystem::path& base) {
   GatewaySetup setup;
-  SF_TRY(parse_root(root, setup.config));
+  SF_TRY(parse_root(root, setup.config, base));
   auto layout = load_settings_layout(root, setup.config.controller, base);
   if (!layout) {
     return layout.error();

@@ -8,7 +8,14 @@
 //   serial_number: 0042               # Machinery identification (optional)
 //   start: execute                    # stopped (default): wait for an operator's Reset and Start
 //   job_timeout_s: 10                 # a job running this much longer than estimated fails
-//   opcua: {port: 4841}
+//   opcua:                            # the controller's own OPC UA server (its machine model)
+//     port: 4841
+//     modes: sign,encrypt             # none, sign, encrypt (comma list)
+//     policies: Basic256Sha256        # comma list (default: the three the server offers)
+//     users: users.yaml               # `opcua users` file; operators may call the PackML methods
+//     anonymous: viewer               # a role or off (default: off with users, else viewer)
+//     pki: pki                        # PKI folder (default: the installation's)
+//     nodesets: [line.xml]            # NodeSet2 files first (`kb to-nodeset` of the ontology)
 //   dds:                              # the Contract Net (paper §IV.B)
 //     machining_domain: 10            # DDS domain ids, 0..232
 //     conveying_domain: 11
@@ -22,11 +29,13 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "sf/core/config.hpp"
 #include "sf/core/result.hpp"
 #include "sf/line/layout.hpp"
 #include "sf/negotiation/dds_transport.hpp"
+#include "sf/opcua/server/security_setup.hpp"
 
 namespace sf::factory {
 
@@ -45,14 +54,18 @@ struct ControllerSettings {
   bool auto_start = false;  // start: execute
   std::chrono::milliseconds job_timeout{10000};
   std::uint16_t opcua_port = 4840;
+  opcua::server::ServerSecuritySettings opcua_security;
+  std::vector<std::string> opcua_nodesets;
   DdsOptions dds;
 };
 
 // The negotiation module's DDS settings for these options.
 negotiation::DdsSettings dds_settings(const DdsOptions& options);
 
-// Reads the common keys of `root` (a mapping already checked for unknown keys).
-Status parse_controller_settings(const config::Node& root, ControllerSettings& settings);
+// Reads the common keys of `root` (a mapping already checked for unknown keys); relative file
+// names are taken from `base` (the file's folder).
+Status parse_controller_settings(const config::Node& root, ControllerSettings& settings,
+                                 const std::filesystem::path& base = {});
 // The layout the settings name, relative to `base`; errors point at the `layout` key.
 Result<line::Layout> load_settings_layout(const config::Node& root, const ControllerSettings& settings,
                                           const std::filesystem::path& base);

@@ -6,8 +6,10 @@
 // the controller through a RemoteController. Job ends come back to the main
 // thread through the DDS executor, as INFORM-DONE or FAILURE.
 //
-// The OPC UA model of the controller attaches to controller_thread() /
-// remote(): status snapshots and calls, never the controller itself.
+// Its OPC UA server (the opcua settings: port, security, users, the
+// ontology's NodeSet2) publishes the controller's machine model
+// (machine_host.hpp), fed from the cycle thread's status snapshots;
+// operators' PackML methods become calls on the cycle thread.
 #pragma once
 
 #include <chrono>
@@ -23,6 +25,7 @@
 #include "sf/factory/contract_net.hpp"
 #include "sf/factory/controller_thread.hpp"
 #include "sf/factory/machine_config.hpp"
+#include "sf/factory/machine_host.hpp"
 #include "sf/factory/smart_robot.hpp"
 #include "sf/negotiation/agents.hpp"
 
@@ -39,6 +42,8 @@ struct MachineReport {
   std::chrono::nanoseconds lateness_p50{0};
   std::chrono::nanoseconds lateness_p99{0};
   std::chrono::nanoseconds lateness_max{0};
+  std::string opcua_endpoint;  // opc.tcp://host:port
+  std::string opcua_security;  // what the server's security came to
 };
 
 class MachineProcess {
@@ -62,9 +67,12 @@ class MachineProcess {
   [[nodiscard]] ControllerThread& controller_thread() { return *thread_; }
   [[nodiscard]] RemoteController& remote() { return *remote_; }
   [[nodiscard]] const MachineSetup& setup() const { return setup_; }
+  [[nodiscard]] opcua::server::Server& opcua_server() { return *server_; }
+  [[nodiscard]] const MachineHost& machine_model() const { return *host_; }
 
  private:
   MachineProcess(MachineSetup setup, Clock& clock);
+  Status serve_model();
   class Reporter;
 
   MachineSetup setup_;
@@ -73,6 +81,9 @@ class MachineProcess {
   std::unique_ptr<ethercat::master::Master> master_;
   std::unique_ptr<SmartRobot> robot_;
   std::unique_ptr<ControllerThread> thread_;
+  std::unique_ptr<opcua::server::Server> server_;
+  std::unique_ptr<MachineHost> host_;  // before the thread and the server go
+  std::string security_text_;
   dds::Executor executor_;
   std::unique_ptr<RemoteController> remote_;
   std::unique_ptr<ControllerBackend> backend_;

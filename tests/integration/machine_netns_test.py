@@ -6,7 +6,8 @@ over its veth end and joins the Contract Net on loopback, where a product's
 manager (machine_driver) brings a box to the robot over the PLCs and
 negotiates "load 3 gummies". The robot's INFORM-DONE, the plant's event log
 (three gummies in slots 0-2 by scara-robot-1) and the machine's status lines
-must agree. Then the EtherCAT cable is cut in the plant: the machine stops
+must agree, and the machine's own OPC UA server shows the job, the PackML
+state and the axes along the way. Then the EtherCAT cable is cut in the plant: the machine stops
 with the lost segment as its stop reason, and once the cable is back it
 resets by itself and runs again.
 """
@@ -42,6 +43,18 @@ def statuses(machine):
     return events_of(machine, "status")
 
 
+MACHINE = "nsu=urn:smartfactory:machines;s=ScaraRobot1."
+
+
+def ua_read(ns, *paths):
+    """Values of the machine model's nodes over OPC UA (SignAndEncrypt, the host's PKI): {path: (status, value)}."""
+    # `opcua read` exits 1 when a value is not Good; the JSON still has every value.
+    proc = run([binary(), "opcua", "read", "--json", "opc.tcp://localhost:4850", *[MACHINE + p for p in paths]],
+               ns=ns, check_rc=False)
+    values = json.loads(proc.stdout)
+    return {p: (v["status"], v.get("value")) for p, v in zip(paths, values)}
+
+
 def wait_for_state(machine, state, timeout, after=0):
     wait_for(lambda: any(s["state"] == state for s in statuses(machine)[after:]), timeout,
              f"the machine in {state}")
@@ -63,7 +76,7 @@ with VethPair("sfm") as ecat:
         config = os.path.join(work, "machine.yaml")
         with open(config, "w") as f:
             f.write(f"machine: scara-robot-1\nstart: execute\nethercat: {{link: {ecat.if_b}, cycle_us: 1000}}\n"
-                    f"dds: {{interface: lo, partition: {partition}}}\n")
+                    f"dds: {{interface: lo, partition: {partition}}}\nopcua: {{port: 4850}}\n")
         machine = Background([binary(), "machine", "--config", config, "--json", "--status-interval", "1"],
                              ns=ecat.ns_b, log=os.path.join(work, "machine.log"))
         wait_for(lambda: events_of(machine, "ready"), 30, "the machine to be ready")
@@ -71,7 +84,20 @@ with VethPair("sfm") as ecat:
         check(ready["link"] == ecat.if_b and ready["cycle_us"] == 1000, f"the machine masters its veth: {ready}")
         wait_for_state(machine, "Execute", 30)
 
-        result = run_json([driver, endpoints, partition, "3"], ns=ecat.ns_b, timeout=240)
+        product = Background([driver, endpoints, partition, "3"], ns=ecat.ns_b, log=os.path.join(work, "driver.log"))
+        seen_job = None
+        while product.alive() and seen_job is None:
+            now = ua_read(ecat.ns_b, "Job.JobId", "PackML.Status.StateCurrent", "Tags.axis1.position",
+                          "Tags.io.box_in_place.0")
+            if now["Job.JobId"][1]:
+                seen_job = now
+        product.proc.wait(timeout=240)
+        check(product.stop() == 0, f"the product's driver succeeded: {product.output()[-2000:]}")
+        result = json.loads([l for l in product.output().splitlines() if l.startswith('{"box"')][-1])
+        check(seen_job is not None, "the machine's OPC UA server showed the job in work")
+        check(seen_job["PackML.Status.StateCurrent"] == ("Good", 6), f"in Execute (6) during the job: {seen_job}")
+        check(seen_job["Tags.axis1.position"][0] == "Good" and isinstance(seen_job["Tags.axis1.position"][1], float),
+              f"the shoulder axis' position is served: {seen_job}")
         check(result["done"] and result["contractor"] == "scara-robot-1",
               f"SCARA Robot 1 confirmed the load and reported INFORM-DONE: {result}")
         events = run_json([binary(), "plant", "events", "--control", control, "--json"], ns=ecat.ns_b)["events"]
@@ -90,6 +116,12 @@ with VethPair("sfm") as ecat:
         stopped = [s for s in statuses(machine) if s["state"] == "Stopped"][-1]
         check(stopped.get("stop_reason", {}).get("id") == 202 and stopped["fault"],
               f"the lost segment is the stop reason and the fault: {stopped}")
+        wait_for(lambda: ua_read(ecat.ns_b, "Tags.axis1.position")["Tags.axis1.position"][0] != "Good", 10,
+                 "the axes' values to lose their quality over OPC UA")
+        down = ua_read(ecat.ns_b, "PackML.Status.StateCurrent", "PackML.Admin.StopReason.ID", "Tags.axis1.position")
+        check(down["PackML.Status.StateCurrent"][1] == 2 and down["PackML.Admin.StopReason.ID"][1] == 202,
+              f"OPC UA shows Stopped (2) with stop reason 202: {down}")
+        check(down["Tags.axis1.position"][0].startswith("Bad"), f"the axis value is Bad: {down}")
         run([binary(), "plant", "faults", "--control", control, "clear", "cable-cut:scara-robot-1"], ns=ecat.ns_b)
         wait_for_state(machine, "Execute", 30, seen)
     finally:

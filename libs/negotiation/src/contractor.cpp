@@ -204,7 +204,7 @@ void Contractor::on_award(const ManagerMessage& m, std::uint32_t award_id, UtcTi
 
 // A directed award was never bid for: the backend is asked now whether it would do the work.
 std::optional<std::string> Contractor::backend_declines(const ManagerMessage& m,
-                                                        const std::vector<Param>* directed) {
+                                                        const std::vector<Param>* directed) const {
   if (directed == nullptr || config_.backend == nullptr) {
     return std::nullopt;
   }
@@ -253,7 +253,7 @@ Status Contractor::report(const std::string& conversation, bool ok, const std::s
   return {};
 }
 
-void Contractor::end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail,
+void Contractor::end_job(const std::deque<Job>::iterator& it, bool ok, const std::string& detail,
                          std::vector<Param> results) {
   const Job job = *it;
   jobs_.erase(it);

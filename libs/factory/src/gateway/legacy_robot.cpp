@@ -74,7 +74,7 @@ class LegacyRobotLogic final : public DeviceLogic {
       return make_error(Errc::state, fmt::format("{}'s {} dispenser ran empty; an operator's Reset clears it",
                                                  robot_.name, name));
     }
-    auto count = int_param(op, "count", 1, line::kMaxRepeats * line::kMaxRepeats);
+    auto count = int_param(op, "count", 1, std::int64_t{line::kMaxRepeats} * line::kMaxRepeats);
     auto slot = int_param(op, "slot", 0, 0xFFFF);
     auto box = int_param(op, "box", 1, 0xFFFF);
     for (const auto* p : {&count, &slot, &box}) {

@@ -165,14 +165,14 @@ class Contractor final : public ContractorInbox {
                 const std::vector<Param>* directed);
   void on_cancel(const ManagerMessage& m, std::uint32_t award_id, const std::string& reason);
   [[nodiscard]] std::optional<std::string> backend_declines(const ManagerMessage& m,
-                                                            const std::vector<Param>* directed);
+                                                            const std::vector<Param>* directed) const;
   void accept(const ManagerMessage& m, std::uint32_t award_id, const Skill& s);
   void refuse(const ManagerMessage& m, std::uint32_t award_id, std::string reason);
   void drop_job(const std::string& conversation, const std::string& why);
   void start_head(Clock::time_point at);
   void finish_head();
   void bid_from_backend(const Announce& a, Offer& offer);
-  void end_job(std::deque<Job>::iterator it, bool ok, const std::string& detail,
+  void end_job(const std::deque<Job>::iterator& it, bool ok, const std::string& detail,
                std::vector<Param> results = {});
   // Finishes the jobs whose work is over at `now` (tick; and at once a job that takes no time).
   void finish_due(Clock::time_point now);

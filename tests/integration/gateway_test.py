@@ -39,6 +39,7 @@ layout: {os.path.join(source_dir(), "layouts", "prototype-line.yaml")}
 start: execute
 modbus: {{host: 127.0.0.1, port: {port}, poll_period_ms: 20}}
 dds: {{interface: lo, partition: {PARTITION}}}
+opcua: {{port: 0}}
 """)
     return path
 

@@ -26,7 +26,9 @@ constexpr const char* kGatewayHelp =
     "uploader or downloader, a legacy robot's controller), runs the machine as a PackML\n"
     "unit, and takes part in the Contract Net over DDS on its behalf: bids from its real\n"
     "state, awarded work done on the machine, INFORM-DONE or FAILURE to the product.\n"
-    "A conveyor also answers transport REQUESTs with its belt's segments. It polls the\n"
+    "A conveyor also answers transport REQUESTs with its belt's segments. Its OPC UA\n"
+    "server publishes the machine's model (PLC registers as typed variables, Bad with the\n"
+    "reason while the PLC is unreachable; PackML methods). It polls the\n"
     "PLC every poll period (20 ms by default) and prints a status line whenever the\n"
     "PackML state, the PLC link, the job or the queue changes (JSON lines with --json).\n"
     "A configuration error names FILE:LINE:COLUMN and nothing starts (exit status 2).";
@@ -38,6 +40,7 @@ constexpr const char* kConfigHelp =
     "  layout: ../../layouts/prototype-line.yaml   # default: the built-in layout\n"
     "  start: execute             # stopped (default): wait for an operator's Reset, Start\n"
     "  modbus: {host: 127.0.0.1, port: 1502, poll_period_ms: 20, timeout_ms: 500}\n"
+    "  opcua: {port: 4851}        # also modes, policies, users, anonymous, pki, nodesets\n"
     "  dds: {machining_domain: 10, conveying_domain: 11, interface: lo, partition: smartfactory}";
 
 struct GatewayOptions {
@@ -73,6 +76,8 @@ void print_ready(const fy::GatewayProcess& p, bool as_json) {
                       {"machine", c.controller.machine},
                       {"kind", fy::to_string(c.kind)},
                       {"endpoint", r.endpoint},
+                      {"opcua", r.opcua_endpoint},
+                      {"opcua_security", r.opcua_security},
                       {"poll_period_ms", c.modbus.poll_period.count()},
                       {"operations", g.operations()},
                       {"machining_domain", c.controller.dds.machining_domain},
@@ -82,11 +87,11 @@ void print_ready(const fy::GatewayProcess& p, bool as_json) {
               << std::endl;
     return;
   }
-  std::cout << fmt::format("gateway {} ({}, {} {}): PLC {} every {} ms; DDS domains {}/{} on {}\n",
-                           c.controller.machine, fy::to_string(c.kind), r.identification.manufacturer,
-                           r.identification.model, r.endpoint, c.modbus.poll_period.count(),
-                           c.controller.dds.machining_domain, c.controller.dds.conveying_domain,
-                           c.controller.dds.interface);
+  std::cout << fmt::format(
+      "gateway {} ({}, {} {}): PLC {} every {} ms; DDS domains {}/{} on {}\n  OPC UA {} ({})\n",
+      c.controller.machine, fy::to_string(c.kind), r.identification.manufacturer, r.identification.model,
+      r.endpoint, c.modbus.poll_period.count(), c.controller.dds.machining_domain,
+      c.controller.dds.conveying_domain, c.controller.dds.interface, r.opcua_endpoint, r.opcua_security);
   for (const auto& s : g.segments()) {
     std::cout << fmt::format("  segment {} -> {} ({:.3f} s)\n", s.from, s.to,
                              std::chrono::duration<double>(s.transit_time).count());

@@ -79,7 +79,7 @@ class ContractNetRig {
     auto& machining = net_.add_contractor(machine, g.operations());
     cnp::MemoryConveyorEndpoint* conveying =
         g.config().kind == GatewayKind::conveyor ? &net_.add_conveyor(machine) : nullptr;
-    auto roles = GatewayRoles::create(g, machining, conveying, rig_->clock());
+    auto roles = GatewayRoles::create(GatewayAccess::direct(g), machining, conveying, rig_->clock());
     EXPECT_TRUE(roles) << roles.error().describe();
     roles_.push_back(std::move(*roles));
     machining.bind(roles_.back()->contractor());

@@ -7,30 +7,35 @@ namespace sf::factory {
 
 std::vector<negotiation::Hop> ConveyorSegments::segments(const negotiation::TransportRequest& /*request*/,
                                                          std::string& why_not) {
-  if (auto why = gateway_->unavailable()) {
-    why_not = *why;
+  const ConveyorOffer offer = offer_();
+  if (offer.unavailable) {
+    why_not = *offer.unavailable;
     return {};
   }
-  const auto start_in = gateway_->backlog();
   std::vector<negotiation::Hop> out;
-  for (const TransportSegment& s : gateway_->segments()) {
-    out.push_back({s.from, s.to, s.transit_time, start_in});
+  for (const TransportSegment& s : offer.segments) {
+    out.push_back({s.from, s.to, s.transit_time, offer.backlog});
   }
   return out;
 }
 
-Result<std::unique_ptr<GatewayRoles>> GatewayRoles::create(Gateway& gateway,
+GatewayAccess GatewayAccess::direct(Gateway& gateway) {
+  return {&gateway.config(), &gateway, [g = &gateway] { return g->conveyor_offer(); }};
+}
+
+Result<std::unique_ptr<GatewayRoles>> GatewayRoles::create(GatewayAccess gateway,
                                                            negotiation::ContractorTransport& machining,
                                                            negotiation::ConveyorTransport* conveying,
                                                            const Clock& clock) {
-  const bool conveyor = gateway.config().kind == GatewayKind::conveyor;
+  const GatewayConfig& c = *gateway.config;
+  const bool conveyor = c.kind == GatewayKind::conveyor;
   if (conveyor != (conveying != nullptr)) {
     return make_error(Errc::invalid_argument,
                       fmt::format("{}: a conveyor's gateway, and only one, answers transport REQUESTs",
-                                  gateway.config().controller.machine));
+                                  c.controller.machine));
   }
   auto roles = std::unique_ptr<GatewayRoles>(new GatewayRoles(gateway));
-  negotiation::ContractorConfig config{gateway.config().controller.machine, roles->backend_.skills()};
+  negotiation::ContractorConfig config{c.controller.machine, roles->backend_.skills()};
   config.backend = &roles->backend_;
   auto contractor = negotiation::Contractor::create(machining, clock, std::move(config));
   if (!contractor) {
@@ -39,35 +44,35 @@ Result<std::unique_ptr<GatewayRoles>> GatewayRoles::create(Gateway& gateway,
   roles->contractor_.emplace(std::move(*contractor));
   roles->backend_.bind(*roles->contractor_);
   if (conveyor) {
-    auto c = negotiation::Conveyor::create(
-        *conveying, clock, {gateway.config().controller.machine, {}, {}, {}, &roles->segments_});
-    if (!c) {
-      return c.error();
+    auto role = negotiation::Conveyor::create(*conveying, clock,
+                                              {c.controller.machine, {}, {}, {}, &roles->segments_});
+    if (!role) {
+      return role.error();
     }
-    roles->conveyor_.emplace(std::move(*c));
+    roles->conveyor_.emplace(std::move(*role));
   }
   return roles;
 }
 
-Result<std::unique_ptr<GatewayAgent>> GatewayAgent::create(Gateway& gateway,
+Result<std::unique_ptr<GatewayAgent>> GatewayAgent::create(GatewayAccess gateway,
                                                            const negotiation::DdsSettings& settings,
                                                            dds::Executor& executor, const Clock& clock) {
-  auto agent = std::unique_ptr<GatewayAgent>(new GatewayAgent(gateway, clock));
-  const std::string& name = gateway.config().controller.machine;
-  auto machining =
-      negotiation::MachineEndpoints::create(settings, name, gateway.operations(), executor, clock);
+  auto agent = std::unique_ptr<GatewayAgent>(new GatewayAgent());
+  const std::string& name = gateway.config->controller.machine;
+  auto machining = negotiation::MachineEndpoints::create(settings, name, gateway.controller->operations(),
+                                                         executor, clock);
   if (!machining) {
     return machining.error();
   }
   agent->machining_ = std::move(*machining);
-  if (gateway.config().kind == GatewayKind::conveyor) {
+  if (gateway.config->kind == GatewayKind::conveyor) {
     auto conveying = negotiation::ConveyorEndpoints::create(settings, name, executor);
     if (!conveying) {
       return conveying.error();
     }
     agent->conveying_ = std::move(*conveying);
   }
-  auto roles = GatewayRoles::create(gateway, *agent->machining_, agent->conveying_.get(), clock);
+  auto roles = GatewayRoles::create(std::move(gateway), *agent->machining_, agent->conveying_.get(), clock);
   if (!roles) {
     return roles.error();
   }
@@ -82,21 +87,14 @@ Result<std::unique_ptr<GatewayAgent>> GatewayAgent::create(Gateway& gateway,
 GatewayAgent::~GatewayAgent() = default;
 
 void GatewayAgent::tick() {
-  const auto now = clock_->now();
-  if (now >= next_poll_) {
-    next_poll_ = gateway_->poll(now);
-    if (on_poll_) {
-      on_poll_(now);
-    }
-  }
   roles_->contractor().tick();
   machining_->flush_ended();
   machining_->assert_liveliness();
 }
 
 std::optional<Clock::time_point> GatewayAgent::next_deadline() const {
-  return earliest(next_poll_, earliest(roles_->contractor().next_deadline(),
-                                       earliest(machining_->ends_due(), machining_->liveliness_due())));
+  return earliest(roles_->contractor().next_deadline(),
+                  earliest(machining_->ends_due(), machining_->liveliness_due()));
 }
 
 std::vector<const dds::Participant*> GatewayAgent::participants() const {

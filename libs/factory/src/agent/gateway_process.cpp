@@ -5,7 +5,19 @@
 
 namespace sf::factory {
 
-Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setup, const Clock& clock) {
+namespace {
+
+// A gateway polls its PLC every poll period; that is no hard real-time cycle, so its thread
+// keeps the normal scheduler.
+ControllerThreadOptions gateway_thread_options() {
+  ControllerThreadOptions options;
+  options.realtime = false;
+  return options;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setup, Clock& clock) {
   auto options = tcp_options(setup);
   if (!options) {
     return options.error();
@@ -14,58 +26,49 @@ Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setu
   if (!client) {
     return client.error();
   }
-  auto process =
-      std::unique_ptr<GatewayProcess>(new GatewayProcess(std::move(setup), std::move(*client), clock));
-  auto agent =
-      GatewayAgent::create(*process->gateway_, dds_settings(process->gateway_->config().controller.dds),
-                           process->executor_, clock);
-  if (!agent) {
-    return agent.error();
+  auto p = std::unique_ptr<GatewayProcess>(new GatewayProcess(std::move(setup), std::move(*client), clock));
+  Gateway& gateway = *p->gateway_;
+  GatewayProcess* self = p.get();
+  auto hosted =
+      HostedController::create(gateway, gateway.config().controller, gateway_thread_options(), clock,
+                               [self](std::function<void()> f) { self->executor_.post(std::move(f)); });
+  if (!hosted) {
+    return hosted.error();
   }
-  process->agent_ = std::move(*agent);
-  process->agent_->on_poll([p = process.get()](Clock::time_point now) { p->after_poll(now); });
-  return process;
+  p->hosted_ = std::move(*hosted);
+  ControllerThread* thread = &p->hosted_->thread();
+  GatewayAccess access{&gateway.config(), &p->hosted_->remote(), [thread, g = &gateway] {
+                         return thread->call([g](MachineController&) { return g->conveyor_offer(); });
+                       }};
+  auto agent = GatewayAgent::create(std::move(access), dds_settings(gateway.config().controller.dds),
+                                    p->executor_, clock);
+  if (!agent) {
+    return Error(agent.error()).with_context("the Contract Net over DDS");
+  }
+  p->agent_ = std::move(*agent);
+  return p;
 }
 
-GatewayProcess::GatewayProcess(GatewaySetup setup, std::unique_ptr<modbus::TcpClient> client,
-                               const Clock& clock)
+GatewayProcess::GatewayProcess(GatewaySetup setup, std::unique_ptr<modbus::TcpClient> client, Clock& clock)
     : clock_(&clock),
       client_(std::move(client)),
       gateway_(std::make_unique<Gateway>(std::move(setup.config), std::move(setup.layout), *client_, clock)) {
 }
 
-GatewayProcess::~GatewayProcess() = default;
-
-void GatewayProcess::on_poll(std::function<void(Gateway&)> hook) {
-  hooks_.push_back(std::move(hook));
+GatewayProcess::~GatewayProcess() {
+  hosted_.reset();  // no job ends from here on
 }
 
 void GatewayProcess::run(const std::function<bool()>& stop,
                          const std::function<void(const GatewayReport&)>& on_report,
                          std::chrono::nanoseconds interval) {
-  on_report_ = on_report;
-  interval_ = interval;
-  next_report_ = clock_->now();
-  negotiation::run_agents(executor_, *clock_, {agent_.get()}, stop);
-  on_report_ = nullptr;
-}
-
-void GatewayProcess::after_poll(Clock::time_point now) {
-  for (auto& hook : hooks_) {
-    hook(*gateway_);
-  }
-  if (!on_report_) {
-    return;
-  }
-  const ControllerStatus s = gateway_->status();
-  std::string shown = fmt::format("{} {} {} {}", to_string(s.packml.state), gateway_->link_state(),
-                                  s.job.value_or(""), s.queued);
-  if (shown == last_shown_ && (interval_.count() <= 0 || now < next_report_)) {
-    return;
-  }
-  last_shown_ = std::move(shown);
-  next_report_ = now + interval_;
-  on_report_(report());
+  const auto headline = [this] {
+    const ControllerStatus s = hosted_->thread().status();
+    return fmt::format("{} {} {} {}", to_string(s.packml.state), gateway_->link_state(), s.job.value_or(""),
+                       s.queued);
+  };
+  hosted_->run(executor_, *agent_, stop,
+               {headline, [&] { on_report ? on_report(report()) : void(); }, interval});
 }
 
 GatewayReport GatewayProcess::report() const {
@@ -73,12 +76,14 @@ GatewayReport GatewayProcess::report() const {
   r.identification = gateway_->identification();
   r.endpoint = client_->endpoint();
   r.link = std::string(gateway_->link_state());
-  r.controller = gateway_->status();
+  r.controller = hosted_->thread().status();
   r.contract_net = agent_->roles().contractor().stats();
   if (const auto* conveyor = agent_->roles().conveyor()) {
     r.informs = conveyor->informs();
     r.silent = conveyor->silent();
   }
+  r.opcua_endpoint = hosted_->model().endpoint();
+  r.opcua_security = hosted_->model().security();
   return r;
 }
 

@@ -130,6 +130,14 @@ std::chrono::nanoseconds Gateway::backlog() const {
   return jobs_.backlog();
 }
 
+ConveyorOffer Gateway::conveyor_offer() const {
+  ConveyorOffer offer{unavailable(), backlog(), {}};
+  if (!offer.unavailable) {
+    offer.segments = segments();
+  }
+  return offer;
+}
+
 std::optional<Estimate> Gateway::estimate(const Operation& op, std::string* why_not) const {
   auto why = refusal(op);
   auto duration =

@@ -27,6 +27,7 @@
 // came into work is produced, the failed ones defective.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <deque>
 #include <memory>
@@ -57,6 +58,14 @@ struct JobResult;
 inline constexpr std::int32_t kStopPlcUnreachable = 101;  // no answer, connection lost
 inline constexpr std::int32_t kStopPlcException = 102;    // the device answers with Modbus exceptions
 
+// What a conveyor offers the ConveyingDomain now (Gateway::conveyor_offer): its segments, the
+// work queued on the belt before a new transport could start, or why it takes no work.
+struct ConveyorOffer {
+  std::optional<std::string> unavailable;
+  std::chrono::nanoseconds backlog{0};
+  std::vector<TransportSegment> segments;
+};
+
 class Gateway final : public MachineController {
  public:
   // `client` reaches the machine's device and must outlive the gateway; the
@@ -80,9 +89,12 @@ class Gateway final : public MachineController {
   [[nodiscard]] const line::Layout& layout() const { return layout_; }
   // A conveyor's hops for the ConveyingDomain (conveying.hpp); none for other kinds.
   [[nodiscard]] std::vector<TransportSegment> segments() const;
+  // What it offers transport REQUESTs now (unavailable(), backlog(), segments()).
+  [[nodiscard]] ConveyorOffer conveyor_offer() const;
   // The device answered the last poll.
   [[nodiscard]] bool link_up() const { return link_ == Link::up; }
   // "up", "stale" (no answer, values still fresh), "lost", or "unknown" before the first poll.
+  // Safe from any thread (a process's status line reads it while another thread polls).
   [[nodiscard]] std::string_view link_state() const;
   // Why the gateway takes no work now (its device unreachable, not in Execute), if it does not.
   [[nodiscard]] std::optional<std::string> unavailable() const;
@@ -112,7 +124,7 @@ class Gateway final : public MachineController {
   std::unique_ptr<gateway::DeviceLogic> logic_;
   std::unique_ptr<gateway::PlcIo> io_;
   PackMLUnit unit_;
-  Link link_ = Link::unknown;
+  std::atomic<Link> link_ = Link::unknown;
   std::string link_error_ = "not read yet";
   bool link_exception_ = false;
   Clock::time_point last_good_{};

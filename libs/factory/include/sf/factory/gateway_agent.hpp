@@ -18,8 +18,10 @@
 //     INFORM only; the transport contract uses the MachiningDomain's topics.
 //
 // GatewayRoles composes the roles over any transport (in memory in tests);
-// GatewayAgent puts them on DDS and polls the gateway from the agents' loop
-// (run_agents), the single thread the MachineController contract asks for.
+// GatewayAgent puts them on DDS. Neither polls the gateway: whoever drives it
+// (a test's loop, the gateway process's ControllerThread) does, and the roles
+// reach it through the controller they are given (a RemoteController from
+// the DDS thread) and a function that asks it for its ConveyorOffer.
 #pragma once
 
 #include <functional>
@@ -45,19 +47,32 @@ namespace sf::factory {
 // work queued on the belt before a new transport could start.
 class ConveyorSegments final : public negotiation::ConveyorBackend {
  public:
-  explicit ConveyorSegments(const Gateway& gateway) : gateway_(&gateway) {}
+  // `offer` asks the gateway on the thread that drives it.
+  explicit ConveyorSegments(std::function<ConveyorOffer()> offer) : offer_(std::move(offer)) {}
   std::vector<negotiation::Hop> segments(const negotiation::TransportRequest& request,
                                          std::string& why_not) override;
 
  private:
-  const Gateway* gateway_;
+  std::function<ConveyorOffer()> offer_;
+};
+
+// How the roles reach a gateway: `controller` (the Gateway itself on its driving thread, or a
+// RemoteController), `offer` its Gateway::conveyor_offer() the same way; the configuration is
+// read-only.
+struct GatewayAccess {
+  const GatewayConfig* config = nullptr;
+  MachineController* controller = nullptr;
+  std::function<ConveyorOffer()> offer;
+
+  // The gateway called directly (the caller's thread drives it).
+  static GatewayAccess direct(Gateway& gateway);
 };
 
 class GatewayRoles {
  public:
   // `conveying` is the conveyor role's transport, needed for (and only for) a conveyor's gateway.
-  // The gateway must outlive the roles; its on_job_end is taken over.
-  static Result<std::unique_ptr<GatewayRoles>> create(Gateway& gateway,
+  // The gateway must outlive the roles; its controller's on_job_end is taken over.
+  static Result<std::unique_ptr<GatewayRoles>> create(GatewayAccess gateway,
                                                       negotiation::ContractorTransport& machining,
                                                       negotiation::ConveyorTransport* conveying,
                                                       const Clock& clock);
@@ -71,7 +86,8 @@ class GatewayRoles {
   [[nodiscard]] const negotiation::Conveyor* conveyor() const { return conveyor_ ? &*conveyor_ : nullptr; }
 
  private:
-  explicit GatewayRoles(Gateway& gateway) : backend_(gateway), segments_(gateway) {}
+  explicit GatewayRoles(GatewayAccess& gateway)
+      : backend_(*gateway.controller), segments_(std::move(gateway.offer)) {}
 
   ControllerBackend backend_;
   ConveyorSegments segments_;
@@ -81,32 +97,24 @@ class GatewayRoles {
 
 class GatewayAgent final : public negotiation::Agent {
  public:
-  static Result<std::unique_ptr<GatewayAgent>> create(Gateway& gateway,
+  static Result<std::unique_ptr<GatewayAgent>> create(GatewayAccess gateway,
                                                       const negotiation::DdsSettings& settings,
                                                       dds::Executor& executor, const Clock& clock);
   GatewayAgent(const GatewayAgent&) = delete;
   GatewayAgent& operator=(const GatewayAgent&) = delete;
   ~GatewayAgent() override;
 
-  // Polls the gateway when its poll is due, then the contractor's timers, batched conversation
-  // ends and the liveliness of its BID writers.
+  // The contractor's timers, batched conversation ends and the liveliness of its BID writers.
   void tick() override;
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const override;
-
-  // Runs `hook` after every poll of the gateway, with the poll's time.
-  void on_poll(std::function<void(Clock::time_point)> hook) { on_poll_ = std::move(hook); }
 
   [[nodiscard]] const GatewayRoles& roles() const { return *roles_; }
   // Its DDS participants (MachiningDomain, and ConveyingDomain for a conveyor).
   [[nodiscard]] std::vector<const dds::Participant*> participants() const;
 
  private:
-  GatewayAgent(Gateway& gateway, const Clock& clock) : gateway_(&gateway), clock_(&clock) {}
+  GatewayAgent() = default;
 
-  Gateway* gateway_;
-  const Clock* clock_;
-  Clock::time_point next_poll_ = Clock::time_point::min();
-  std::function<void(Clock::time_point)> on_poll_;
   std::unique_ptr<negotiation::MachineEndpoints> machining_;
   std::unique_ptr<negotiation::ConveyorEndpoints> conveying_;
   std::unique_ptr<GatewayRoles> roles_;  // last: its roles use the endpoints

@@ -23,6 +23,7 @@
 #include "sf/ethercat/link.hpp"
 #include "sf/ethercat/master/master.hpp"
 #include "sf/factory/contract_net.hpp"
+#include "sf/factory/controller_process.hpp"
 #include "sf/factory/controller_thread.hpp"
 #include "sf/factory/machine_config.hpp"
 #include "sf/factory/machine_host.hpp"
@@ -64,28 +65,22 @@ class MachineProcess {
            std::chrono::nanoseconds interval);
 
   [[nodiscard]] MachineReport report() const;
-  [[nodiscard]] ControllerThread& controller_thread() { return *thread_; }
-  [[nodiscard]] RemoteController& remote() { return *remote_; }
+  [[nodiscard]] ControllerThread& controller_thread() { return hosted_->thread(); }
+  [[nodiscard]] RemoteController& remote() { return hosted_->remote(); }
   [[nodiscard]] const MachineSetup& setup() const { return setup_; }
-  [[nodiscard]] opcua::server::Server& opcua_server() { return *server_; }
-  [[nodiscard]] const MachineHost& machine_model() const { return *host_; }
+  [[nodiscard]] opcua::server::Server& opcua_server() { return hosted_->model().server(); }
+  [[nodiscard]] const MachineHost& machine_model() const { return hosted_->model().host(); }
 
  private:
   MachineProcess(MachineSetup setup, Clock& clock);
-  Status serve_model();
-  class Reporter;
 
   MachineSetup setup_;
   Clock* clock_;
   std::unique_ptr<ethercat::Link> link_;
   std::unique_ptr<ethercat::master::Master> master_;
   std::unique_ptr<SmartRobot> robot_;
-  std::unique_ptr<ControllerThread> thread_;
-  std::unique_ptr<opcua::server::Server> server_;
-  std::unique_ptr<MachineHost> host_;  // before the thread and the server go
-  std::string security_text_;
+  std::unique_ptr<HostedController> hosted_;  // its job ends go to the executor
   dds::Executor executor_;
-  std::unique_ptr<RemoteController> remote_;
   std::unique_ptr<ControllerBackend> backend_;
   std::unique_ptr<negotiation::MachineAgent> agent_;  // after the executor: its readers deliver there
 };

@@ -3,8 +3,10 @@ line's PLCs on Modbus TCP; `smartfactory gateway` processes for the box uploader
 drive them and take part in the Contract Net over DDS on loopback; a product agent
 (`smartfactory agent product`) gets a box uploaded and carried by conveyor 1 onto conveyor 3,
 the box's id carried from the uploader's INFORM-DONE into the transport. The plant's snapshot
-shows the box where the product was told it is. A bad configuration is refused with
-file:line:column and nothing starts.
+shows the box where the product was told it is. Each gateway serves its machine's model on its
+own OPC UA server: conveyor 1's PLC registers are typed Good variables, Bad (BadNoCommunication)
+with the reason while the plant makes its PLC unreachable, Good again once it answers. A bad
+configuration is refused with file:line:column and nothing starts.
 """
 import json
 import os
@@ -42,6 +44,42 @@ dds: {{interface: lo, partition: {PARTITION}}}
 opcua: {{port: 0}}
 """)
     return path
+
+
+def ua_read(endpoint, node, *paths):
+    """Values of a machine model's nodes over OPC UA: {path: (status, type, value)}."""
+    # `opcua read` exits 1 when a value is not Good; the JSON still has every value.
+    prefix = f"nsu=urn:smartfactory:machines;s={node}."
+    proc = run([binary(), "opcua", "read", "--json", endpoint, *[prefix + p for p in paths]], check_rc=False)
+    try:
+        values = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        fail(f"opcua read gave no JSON (exit {proc.returncode}): {proc.stdout}\n{proc.stderr}")
+    return {p: (v["status"], v.get("type"), v.get("value")) for p, v in zip(paths, values)}
+
+
+PLC_TAGS = {"Tags.plc.motor_run": "Boolean", "Tags.plc.exit_eye": "Boolean", "Tags.plc.speed": "Int64",
+            "Tags.plc.fault_code": "Int64"}
+
+
+def plc_unreachable_turns_tags_bad(sf, control, endpoint):
+    """Conveyor 1's PLC registers over OPC UA: Good and typed, Bad with the reason while its PLC is
+    unreachable, Good again after."""
+    good = ua_read(endpoint, "Conveyor1", *PLC_TAGS)
+    for path, kind in PLC_TAGS.items():
+        check(good[path][0] == "Good" and good[path][1] == kind, f"{path} is a Good {kind}: {good[path]}")
+    run([sf, "plant", "faults", "--control", control, "inject", "plc-unreachable:conveyor1"])
+    paths = (*PLC_TAGS, "Tags.plc.speed.Reason")
+    wait_for(lambda: ua_read(endpoint, "Conveyor1", *paths)["Tags.plc.speed"][0] == "BadNoCommunication", 10,
+             "conveyor 1's registers turn Bad over OPC UA")
+    bad = ua_read(endpoint, "Conveyor1", *paths)
+    for path in PLC_TAGS:
+        check(bad[path][0] == "BadNoCommunication", f"{path} is BadNoCommunication: {bad[path]}")
+    reason = bad["Tags.plc.speed.Reason"]
+    check(reason[0] == "Good" and "does not answer" in reason[2], f"the reason is readable: {reason}")
+    run([sf, "plant", "faults", "--control", control, "clear", "plc-unreachable:conveyor1"])
+    wait_for(lambda: all(v[0] == "Good" for v in ua_read(endpoint, "Conveyor1", *PLC_TAGS).values()), 10,
+             "conveyor 1's registers are Good again once its PLC answers")
 
 
 def bad_config_is_refused(sf, folder):
@@ -95,6 +133,8 @@ def main():
         check(where is not None and where["belt"] == "conveyor3", f"the plant has box {box} on conveyor 3: {where}")
         wait_for(lambda: any(e["done"] == 1 for e in events(gateways["uploader"].output(), "status")), 5,
                  "the uploader's status counts the job done")
+        check(ready["opcua"].startswith("opc.tcp://"), f"the ready line names the OPC UA endpoint: {ready}")
+        plc_unreachable_turns_tags_bad(sf, control, ready["opcua"])
     finally:
         codes = {m: g.stop() for m, g in gateways.items()}
         plant.stop()

@@ -6,7 +6,7 @@ the box's id carried from the uploader's INFORM-DONE into the transport. The pla
 shows the box where the product was told it is. Each gateway serves its machine's model on its
 own OPC UA server: conveyor 1's PLC registers are typed Good variables, Bad (BadNoCommunication)
 with the reason while the plant makes its PLC unreachable, Good again once it answers. A bad
-configuration is refused with file:line:column and nothing starts.
+configuration is refused with file:line:column, a taken OPC UA port with an error; nothing starts.
 """
 import json
 import os
@@ -32,8 +32,8 @@ def events(text, kind=None):
     return out
 
 
-def write_config(folder, machine, kind, port):
-    path = os.path.join(folder, f"{machine}.yaml")
+def write_config(folder, machine, kind, port, opcua_port=0, name=None):
+    path = os.path.join(folder, f"{name or machine}.yaml")
     with open(path, "w") as f:
         f.write(f"""machine: {machine}
 kind: {kind}
@@ -41,7 +41,7 @@ layout: {os.path.join(source_dir(), "layouts", "prototype-line.yaml")}
 start: execute
 modbus: {{host: 127.0.0.1, port: {port}, poll_period_ms: 20}}
 dds: {{interface: lo, partition: {PARTITION}}}
-opcua: {{port: 0}}
+opcua: {{port: {opcua_port}}}
 """)
     return path
 
@@ -80,6 +80,16 @@ def plc_unreachable_turns_tags_bad(sf, control, endpoint):
     run([sf, "plant", "faults", "--control", control, "clear", "plc-unreachable:conveyor1"])
     wait_for(lambda: all(v[0] == "Good" for v in ua_read(endpoint, "Conveyor1", *PLC_TAGS).values()), 10,
              "conveyor 1's registers are Good again once its PLC answers")
+
+
+def taken_opcua_port_is_refused(sf, folder, plc_port, endpoint):
+    """A second gateway for conveyor 1 on the first one's OPC UA port: a clear error, nothing runs."""
+    taken = int(endpoint.rsplit(":", 1)[1])
+    path = write_config(folder, "conveyor1", "conveyor", plc_port, opcua_port=taken, name="conveyor1-again")
+    proc = run([sf, "gateway", "--config", path, "--json"], check_rc=False, timeout=30)
+    check(proc.returncode == 1 and "OPC UA server" in proc.stderr,
+          f"a taken OPC UA port is an error naming the server (exit {proc.returncode}): {proc.stderr[-500:]}")
+    check(not events(proc.stdout, "ready"), "nothing started")
 
 
 def bad_config_is_refused(sf, folder):
@@ -135,6 +145,7 @@ def main():
                  "the uploader's status counts the job done")
         check(ready["opcua"].startswith("opc.tcp://"), f"the ready line names the OPC UA endpoint: {ready}")
         plc_unreachable_turns_tags_bad(sf, control, ready["opcua"])
+        taken_opcua_port_is_refused(sf, tmp, port["conveyor1"], ready["opcua"])
     finally:
         codes = {m: g.stop() for m, g in gateways.items()}
         plant.stop()

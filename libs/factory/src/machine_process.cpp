@@ -13,14 +13,14 @@ std::string headline(const ControllerStatus& s) {
 
 }  // namespace
 
-MachineProcess::MachineProcess(MachineSetup setup, Clock& clock) : setup_(std::move(setup)), clock_(&clock) {}
+MachineProcess::MachineProcess(MachineSetup setup) : setup_(std::move(setup)) {}
 
 MachineProcess::~MachineProcess() {
   hosted_.reset();  // no job ends from here on
 }
 
 Result<std::unique_ptr<MachineProcess>> MachineProcess::create(MachineSetup setup, Clock& clock) {
-  std::unique_ptr<MachineProcess> p(new MachineProcess(std::move(setup), clock));
+  std::unique_ptr<MachineProcess> p(new MachineProcess(std::move(setup)));
   const MachineConfig& c = p->setup_.config;
   auto link = ethercat::open_link(c.ethercat.link);
   if (!link) {

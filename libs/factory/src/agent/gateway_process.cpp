@@ -50,8 +50,7 @@ Result<std::unique_ptr<GatewayProcess>> GatewayProcess::create(GatewaySetup setu
 }
 
 GatewayProcess::GatewayProcess(GatewaySetup setup, std::unique_ptr<modbus::TcpClient> client, Clock& clock)
-    : clock_(&clock),
-      client_(std::move(client)),
+    : client_(std::move(client)),
       gateway_(std::make_unique<Gateway>(std::move(setup.config), std::move(setup.layout), *client_, clock)) {
 }
 

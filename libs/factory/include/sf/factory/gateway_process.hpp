@@ -73,7 +73,6 @@ class GatewayProcess {
  private:
   GatewayProcess(GatewaySetup setup, std::unique_ptr<modbus::TcpClient> client, Clock& clock);
 
-  Clock* clock_;
   std::unique_ptr<modbus::TcpClient> client_;
   std::unique_ptr<Gateway> gateway_;
   std::unique_ptr<HostedController> hosted_;  // its job ends go to the executor

@@ -72,10 +72,9 @@ class MachineProcess {
   [[nodiscard]] const MachineHost& machine_model() const { return hosted_->model().host(); }
 
  private:
-  MachineProcess(MachineSetup setup, Clock& clock);
+  explicit MachineProcess(MachineSetup setup);
 
   MachineSetup setup_;
-  Clock* clock_;
   std::unique_ptr<ethercat::Link> link_;
   std::unique_ptr<ethercat::master::Master> master_;
   std::unique_ptr<SmartRobot> robot_;

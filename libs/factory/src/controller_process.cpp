@@ -26,7 +26,9 @@ Result<std::unique_ptr<ModelServer>> ModelServer::start(const ControllerSettings
     auto reports = opcua::server::import_nodeset_files(space, settings.opcua_nodesets);
     imported = reports ? Status{} : Status(reports.error());
   });
-  SF_TRY(imported);
+  if (!imported) {
+    return imported.error();
+  }
   auto host = MachineHost::attach(*m->server_, thread, identification);
   if (!host) {
     return host.error();

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "controller_report.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/factory/conveying.hpp"
 #include "sf/factory/gateway_process.hpp"
@@ -50,10 +51,6 @@ struct GatewayOptions {
   double status_interval_s = 5;
   double duration_s = 0;
 };
-
-std::string job_text(const fy::ControllerStatus& s) {
-  return s.job ? fmt::format("{} ({})", *s.job, s.operation ? s.operation->type : "?") : "-";
-}
 
 json segments_json(const fy::Gateway& g) {
   json out = json::array();
@@ -101,34 +98,18 @@ void print_ready(const fy::GatewayProcess& p, bool as_json) {
 
 void print_report(const fy::GatewayReport& r, bool as_json) {
   const auto& s = r.controller;
-  const auto& n = r.contract_net;
   if (as_json) {
-    json j{{"event", "status"},
-           {"machine", r.identification.name},
-           {"state", fy::to_string(s.packml.state)},
-           {"mode", fy::to_string(s.packml.mode)},
-           {"link", r.link},
-           {"fault", s.fault},
-           {"job", s.job.value_or("")},
-           {"operation", s.operation ? s.operation->type : ""},
-           {"queued", s.queued},
-           {"produced", s.packml.produced},
-           {"defective", s.packml.defective},
-           {"bids", n.bids},
-           {"declines", n.declines},
-           {"confirms", n.confirms},
-           {"done", n.done},
-           {"failures", n.failures},
-           {"informs", r.informs}};
-    if (s.packml.stop_reason) {
-      j["stop_reason"] = {{"id", s.packml.stop_reason->id}, {"message", s.packml.stop_reason->message}};
-    }
+    auto j = controller_status_json(r.identification.name, s, r.contract_net);
+    j["link"] = r.link;
+    j["operation"] = s.operation ? s.operation->type : "";
+    j["confirms"] = r.contract_net.confirms;
+    j["informs"] = r.informs;
     std::cout << j.dump() << std::endl;
     return;
   }
-  std::cout << fmt::format("{}: {}, link {}, job {}, queue {}; {} bids, {} done, {} failed{}{}\n",
-                           r.identification.name, fy::to_string(s.packml.state), r.link, job_text(s),
-                           s.queued, n.bids, n.done, n.failures, s.fault.empty() ? "" : "; fault: ", s.fault)
+  std::cout << fmt::format("{}; link {}{}{}\n",
+                           controller_status_text(r.identification.name, s, r.contract_net), r.link,
+                           s.fault.empty() ? "" : "; fault: ", s.fault)
             << std::flush;
 }
 

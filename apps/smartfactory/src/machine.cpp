@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "controller_report.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/factory/machine_process.hpp"
 
@@ -52,39 +53,20 @@ double us(std::chrono::nanoseconds d) {
 
 void print_report(const fy::MachineReport& r, bool as_json) {
   const auto& s = r.controller;
-  const auto& n = r.contract_net;
   if (as_json) {
-    json j{{"event", "status"},
-           {"machine", r.identification.name},
-           {"state", fy::to_string(s.packml.state)},
-           {"mode", fy::to_string(s.packml.mode)},
-           {"link", r.link},
-           {"fault", s.fault},
-           {"job", s.job.value_or("")},
-           {"queued", s.queued},
-           {"produced", s.packml.produced},
-           {"defective", s.packml.defective},
-           {"bids", n.bids},
-           {"declines", n.declines},
-           {"done", n.done},
-           {"failures", n.failures},
-           {"cycles", r.cycles},
-           {"realtime", r.realtime},
-           {"lateness_us",
-            {{"p50", us(r.lateness_p50)}, {"p99", us(r.lateness_p99)}, {"max", us(r.lateness_max)}}}};
-    if (s.packml.stop_reason) {
-      j["stop_reason"] = {{"id", s.packml.stop_reason->id}, {"message", s.packml.stop_reason->message}};
-    }
+    auto j = controller_status_json(r.identification.name, s, r.contract_net);
+    j["link"] = r.link;
+    j["cycles"] = r.cycles;
+    j["realtime"] = r.realtime;
+    j["lateness_us"] = {
+        {"p50", us(r.lateness_p50)}, {"p99", us(r.lateness_p99)}, {"max", us(r.lateness_max)}};
     std::cout << j.dump() << std::endl;
     return;
   }
-  std::cout << fmt::format(
-                   "{}: {}, job {}, queue {}; {} bids, {} done, {} failed; {} cycles, lateness "
-                   "p50/p99/max {:.0f}/{:.0f}/{:.0f} µs{}{}{}\n",
-                   r.identification.name, fy::to_string(s.packml.state), s.job.value_or("-"), s.queued,
-                   n.bids, n.done, n.failures, r.cycles, us(r.lateness_p50), us(r.lateness_p99),
-                   us(r.lateness_max), r.realtime ? " (SCHED_FIFO)" : "",
-                   s.fault.empty() ? "" : "; fault: ", s.fault)
+  std::cout << fmt::format("{}; {} cycles, lateness p50/p99/max {:.0f}/{:.0f}/{:.0f} µs{}{}{}\n",
+                           controller_status_text(r.identification.name, s, r.contract_net), r.cycles,
+                           us(r.lateness_p50), us(r.lateness_p99), us(r.lateness_max),
+                           r.realtime ? " (SCHED_FIFO)" : "", s.fault.empty() ? "" : "; fault: ", s.fault)
             << std::flush;
 }
 

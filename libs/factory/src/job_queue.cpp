@@ -25,12 +25,15 @@ Status JobQueue::admit(std::string_view machine, std::string id, const Operation
   return add(std::move(id), op, estimate->duration);
 }
 
-void JobQueue::show(ControllerStatus& status) const {
+ControllerStatus JobQueue::status(const PackMLUnit& unit) const {
+  ControllerStatus status;
+  status.packml = unit.status();
   if (current_) {
     status.job = current_->id;
     status.operation = current_->op;
   }
   status.queued = queued();
+  return status;
 }
 
 Status JobQueue::cancel(const std::string& id) {

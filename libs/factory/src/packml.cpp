@@ -185,4 +185,42 @@ std::optional<StopReason> operator_stop_reason(PackMLCommand command) {
   return StopReason{kStopOperator, fmt::format("operator: {}", to_string(command)), {}};
 }
 
+void PackMLUnit::run(UnitWork& work) {
+  using S = PackMLState;
+  switch (state_) {
+    case S::Execute:
+      work.execute();
+      return;
+    case S::Resetting:
+    case S::Clearing:
+      if (state_ == S::Resetting ? work.reset() : work.clear()) {
+        (void)state_complete();
+      }
+      return;
+    case S::Starting:
+    case S::Unholding:
+    case S::Unsuspending:
+    case S::Completing:
+      (void)state_complete();
+      return;
+    case S::Holding:
+    case S::Suspending:
+    case S::Stopping:
+      if (work.wind_down()) {
+        if (state_ == S::Stopping) {
+          work.stopped();
+        }
+        (void)state_complete();
+      }
+      return;
+    case S::Aborting:
+      work.abort();
+      (void)state_complete();
+      return;
+    default:
+      work.wait();
+      return;
+  }
+}
+
 }  // namespace sf::factory

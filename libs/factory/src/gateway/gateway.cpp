@@ -175,9 +175,7 @@ Status Gateway::command(PackMLCommand command) {
 }
 
 ControllerStatus Gateway::status() const {
-  ControllerStatus s;
-  s.packml = unit_.status();
-  jobs_.show(s);
+  ControllerStatus s = jobs_.status(unit_);
   s.fault = link_ == Link::up ? logic_->fault_text(*io_) : link_error_;
   switch (link_) {
     case Link::up:
@@ -272,44 +270,44 @@ void Gateway::run_unit(std::chrono::nanoseconds dt) {
       unit_.fault(*fault);
     }
   }
-  switch (unit_.state()) {
-    case S::Execute:
-      work(true, dt);
-      return;
-    case S::Resetting:
-      if (logic_->reset(*io_)) {
-        (void)unit_.state_complete();
-      }
-      return;
-    case S::Starting:
-    case S::Unholding:
-    case S::Unsuspending:
-    case S::Clearing:
-    case S::Completing:
-      (void)unit_.state_complete();
-      return;
-    case S::Holding:
-    case S::Suspending:
-    case S::Stopping:
-      work(false, dt);
-      if (logic_->settled()) {
-        logic_->halt(*io_);
-        if (unit_.state() == S::Stopping) {
-          drop_all("stopped");
-        }
-        (void)unit_.state_complete();
-      }
-      return;
-    case S::Aborting:
-      logic_->halt(*io_);
-      drop_all(aborted());
-      (void)unit_.state_complete();
-      return;
-    default:  // wait states: follow what still runs on the device, start nothing
-      if (jobs_.current() != nullptr) {
-        work(false, dt);
-      }
-      return;
+  dt_ = dt;
+  unit_.run(*this);
+}
+
+void Gateway::execute() {
+  work(true, dt_);
+}
+
+bool Gateway::reset() {
+  return logic_->reset(*io_);
+}
+
+bool Gateway::clear() {
+  return true;
+}
+
+bool Gateway::wind_down() {
+  work(false, dt_);
+  if (!logic_->settled()) {
+    return false;
+  }
+  logic_->halt(*io_);
+  return true;
+}
+
+void Gateway::stopped() {
+  drop_all("stopped");
+}
+
+void Gateway::abort() {
+  logic_->halt(*io_);
+  drop_all(aborted());
+}
+
+// Wait states: follow what still runs on the device, start nothing.
+void Gateway::wait() {
+  if (jobs_.current() != nullptr) {
+    work(false, dt_);
   }
 }
 

@@ -120,8 +120,7 @@ Status SmartRobot::cancel(const std::string& job) {
   return jobs_.cancel(job);
 }
 
-// --- operators --------------------------------------------------------------
-
+// An operator's command; a Reset starts homing from its first step.
 Status SmartRobot::command(PackMLCommand command) {
   SF_TRY(unit_.command(command, operator_stop_reason(command)));
   if (command == PackMLCommand::Reset) {
@@ -133,9 +132,7 @@ Status SmartRobot::command(PackMLCommand command) {
 }
 
 ControllerStatus SmartRobot::status() const {
-  ControllerStatus s;
-  s.packml = unit_.status();
-  jobs_.show(s);
+  ControllerStatus s = jobs_.status(unit_);
   if (!started_) {
     s.fault = "not started";
     return s;
@@ -183,7 +180,7 @@ Clock::time_point SmartRobot::poll(Clock::time_point now) {
     watch_faults();
   }
   auto_start();
-  run_unit();
+  unit_.run(*this);
   for (const auto& outcome : jobs_.take_outcomes()) {
     job_ended(outcome);
   }
@@ -227,54 +224,38 @@ void SmartRobot::auto_start() {
   }
 }
 
-void SmartRobot::run_unit() {
-  switch (unit_.state()) {
-    case S::Execute:
-      work(true);
-      return;
-    case S::Resetting:
-      resetting();
-      return;
-    case S::Clearing:
-      clearing();
-      return;
-    case S::Starting:
-    case S::Unholding:
-    case S::Unsuspending:
-    case S::Completing:
-      (void)unit_.state_complete();
-      return;
-    case S::Holding:
-    case S::Suspending:
-    case S::Stopping:
-      work(false);
-      if (!leg_running_ || !arm_->link_up()) {
-        if (unit_.state() == S::Stopping) {
-          arm_->halt();
-          arm_->gripper(false);
-          drop_all("stopped");
-        }
-        (void)unit_.state_complete();
-      }
-      return;
-    case S::Aborting:
-      arm_->disable();
-      arm_->gripper(false);
-      drop_all(aborted());
-      (void)unit_.state_complete();
-      return;
-    default:  // wait states: finish the move in progress, start nothing
-      if (leg_running_) {
-        work(false);
-      }
-      return;
+void SmartRobot::execute() {
+  work(true);
+}
+
+bool SmartRobot::wind_down() {
+  work(false);
+  return !leg_running_ || !arm_->link_up();
+}
+
+void SmartRobot::stopped() {
+  arm_->halt();
+  arm_->gripper(false);
+  drop_all("stopped");
+}
+
+void SmartRobot::abort() {
+  arm_->disable();
+  arm_->gripper(false);
+  drop_all(aborted());
+}
+
+// Wait states: finish the move in progress, start nothing.
+void SmartRobot::wait() {
+  if (leg_running_) {
+    work(false);
   }
 }
 
 // Resetting: drive faults acknowledged, drives enabled where they stand, then home.
-void SmartRobot::resetting() {
+bool SmartRobot::reset() {
   if (!arm_->link_up()) {
-    return;
+    return false;
   }
   switch (reset_step_) {
     case ResetStep::enable:
@@ -294,29 +275,29 @@ void SmartRobot::resetting() {
           if (!path) {
             unit_.fault(StopReason{
                 kStopHomingFailed, fmt::format("{}: homing: {}", config_.robot, path.error().message), {}});
-            return;
+            return false;
           }
           arm_->follow(std::move(*path));
         }
         reset_step_ = ResetStep::home;
       }
-      return;
+      return false;
     case ResetStep::home:
-      if (arm_->settled()) {
-        reset_step_ = ResetStep::done;
-        (void)unit_.state_complete();
+      if (!arm_->settled()) {
+        return false;
       }
-      return;
+      reset_step_ = ResetStep::done;
+      return true;
     case ResetStep::done:
-      return;
+      return true;
   }
+  return false;
 }
 
-void SmartRobot::clearing() {
+// Clearing: the drives' faults acknowledged; done once none is left.
+bool SmartRobot::clear() {
   arm_->fault_reset();
-  if (!arm_->axis_fault()) {
-    (void)unit_.state_complete();
-  }
+  return !arm_->axis_fault();
 }
 
 std::string SmartRobot::aborted() const {

@@ -66,7 +66,7 @@ struct ConveyorOffer {
   std::vector<TransportSegment> segments;
 };
 
-class Gateway final : public MachineController {
+class Gateway final : public MachineController, private UnitWork {
  public:
   // `client` reaches the machine's device and must outlive the gateway; the
   // configuration must have been checked against `layout` (load_gateway_config).
@@ -109,6 +109,14 @@ class Gateway final : public MachineController {
   void link_changed(Link before);
   void auto_start();
   void run_unit(std::chrono::nanoseconds dt);
+  // UnitWork: the gateway's part in each PackML state (dt_: this poll's time step).
+  void execute() override;
+  bool reset() override;
+  bool clear() override;
+  bool wind_down() override;
+  void stopped() override;
+  void abort() override;
+  void wait() override;
   void run_offline();
   void work(bool go, std::chrono::nanoseconds dt);
   void end_current(gateway::JobResult result);
@@ -129,6 +137,7 @@ class Gateway final : public MachineController {
   bool link_exception_ = false;
   Clock::time_point last_good_{};
   std::optional<Clock::time_point> last_poll_;
+  std::chrono::nanoseconds dt_{0};
   Clock::time_point next_poll_ = Clock::time_point::min();
   bool held_by_link_ = false;
   bool auto_start_pending_ = false;

@@ -15,6 +15,7 @@
 
 #include "sf/core/result.hpp"
 #include "sf/factory/machine.hpp"
+#include "sf/factory/packml.hpp"
 
 namespace sf::factory {
 
@@ -34,8 +35,9 @@ class JobQueue {
   // "<machine> declines <op>: <why_not>") when it gave none.
   Status admit(std::string_view machine, std::string id, const Operation& op,
                const std::optional<Estimate>& estimate, std::string_view why_not);
-  // The job in work, its operation and the queue's length, as ControllerStatus shows them.
-  void show(ControllerStatus& status) const;
+  // A controller's status as far as its unit and its jobs tell: PackML state and
+  // counters, the job in work, its operation, the queue's length.
+  [[nodiscard]] ControllerStatus status(const PackMLUnit& unit) const;
   // A queued job ends at once ("cancelled before it started"); the one in
   // work is flagged (QueuedJob::cancel). Errc::not_found for an unknown id.
   Status cancel(const std::string& id);

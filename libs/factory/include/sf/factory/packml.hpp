@@ -86,6 +86,21 @@ struct PackMLStatus {
   std::chrono::nanoseconds state_current_time{0};                       // Admin.StateCurrentTime
 };
 
+// What a controller does in each state (PackMLUnit::run asks it).
+class UnitWork {
+ public:
+  virtual ~UnitWork() = default;
+  virtual void execute() = 0;  // Execute: work on the jobs
+  virtual bool reset() = 0;    // Resetting: true once done
+  virtual bool clear() = 0;    // Clearing: true once done
+  // Holding, Suspending, Stopping: finish the step in progress, start none;
+  // true once the machine is settled.
+  virtual bool wind_down() = 0;
+  virtual void stopped() = 0;  // Stopping is done: drop the jobs
+  virtual void abort() = 0;    // Aborting: stop at once, drop everything
+  virtual void wait() = 0;     // wait states: follow what still runs, start nothing
+};
+
 // The state machine of one unit. Commands that the current state does not
 // accept are refused (Errc::state, naming command and state) and change nothing.
 class PackMLUnit {
@@ -109,6 +124,9 @@ class PackMLUnit {
   Status set_mode(PackMLMode mode);
   void count(bool good);  // one product processed (defective when not good)
   [[nodiscard]] PackMLStatus status() const;
+  // One turn of the controller's work in the current state: its UnitWork is
+  // asked what the state needs, acting states complete when it is done.
+  void run(UnitWork& work);
   // Acting states: the ones the controller must finish with state_complete().
   [[nodiscard]] static bool acting(PackMLState state);
 

@@ -80,7 +80,7 @@ struct SmartRobotConfig {
   std::chrono::milliseconds job_timeout{std::chrono::seconds{10}};
 };
 
-class SmartRobot final : public MachineController {
+class SmartRobot final : public MachineController, private UnitWork {
  public:
   // The master drives the robot's segment and must outlive the controller.
   SmartRobot(SmartRobotConfig config, line::Layout layout, ethercat::master::Master& master,
@@ -117,9 +117,14 @@ class SmartRobot final : public MachineController {
   void watch_faults();
   void watch_link();
   void auto_start();
-  void run_unit();
-  void resetting();
-  void clearing();
+  // UnitWork: the robot's part in each PackML state.
+  void execute() override;
+  bool reset() override;
+  bool clear() override;
+  bool wind_down() override;
+  void stopped() override;
+  void abort() override;
+  void wait() override;
   void work(bool go);
   bool begin_job();
   void begin_leg();

@@ -110,13 +110,13 @@ class Gateway final : public MachineController, private UnitWork {
   void auto_start();
   void run_unit(std::chrono::nanoseconds dt);
   // UnitWork: the gateway's part in each PackML state (dt_: this poll's time step).
-  void execute() override;
-  bool reset() override;
-  bool clear() override;
+  void execute() override;  // the job handshake in work, the next job
+  void wait() override;     // the device's step in progress followed
   bool wind_down() override;
   void stopped() override;
-  void abort() override;
-  void wait() override;
+  void abort() override;  // the device halted, every job dropped
+  bool reset() override;  // the device's latched fault reset
+  bool clear() override;
   void run_offline();
   void work(bool go, std::chrono::nanoseconds dt);
   void end_current(gateway::JobResult result);

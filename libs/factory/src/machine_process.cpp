@@ -27,7 +27,11 @@ Result<std::unique_ptr<MachineProcess>> MachineProcess::create(MachineSetup setu
     return Error(link.error()).with_context(fmt::format("EtherCAT link {}", c.ethercat.link));
   }
   p->link_ = std::move(*link);
-  p->master_ = std::make_unique<ethercat::master::Master>(*p->link_, clock);
+  // Distributed clocks with SYNC0 at the CSP cycle (ETG.1020 §4.2): the drives take their
+  // set-points on the segment's common time, not on frame arrival.
+  ethercat::master::MasterOptions master_options;
+  master_options.sync0_cycle = c.ethercat.cycle;
+  p->master_ = std::make_unique<ethercat::master::Master>(*p->link_, clock, master_options);
   p->robot_ = std::make_unique<SmartRobot>(smart_robot_config(c), p->setup_.layout, *p->master_, clock);
   if (auto started = p->robot_->start(); !started) {
     return Error(started.error())

@@ -12,14 +12,8 @@ import json
 import os
 import tempfile
 
-from sftest import Background, binary, check, fail, node_peer, run, source_dir, wait_for, wait_for_line
-
-ONTOLOGY = "http://smartfactory.example/ontology/candy"
-STOPPED, IDLE, EXECUTE, HELD, RESETTING, STARTING, HOLDING, UNHOLDING = 2, 4, 6, 11, 15, 3, 10, 12
-
-
-def sf(*args):
-    return run([binary(), *args], timeout=120)
+from machine_model_peer import check_session, make_users, ontology_nodeset, run_peer
+from sftest import Background, binary, check, wait_for, wait_for_line
 
 
 def controller_config(kind, tmp, endpoints, users, nodeset):
@@ -37,8 +31,8 @@ def controller_config(kind, tmp, endpoints, users, nodeset):
             f"modbus: {{host: {host}, port: {port}}}\n" + common)
 
 
-def drive(command, config, tmp, peer):
-    """Runs the controller process, lets node-opcua drive it; node-opcua's result and the exit code."""
+def drive(command, config, tmp, name):
+    """Runs the controller process and lets node-opcua drive it; node-opcua's result."""
     process = Background([binary(), command, "--config", config, "--json"], log=os.path.join(tmp, command + ".log"))
     try:
         def ready():
@@ -48,47 +42,18 @@ def drive(command, config, tmp, peer):
             return None
 
         wait_for(ready, 60, f"{command} to be ready")
-        proc = run(peer + [ready()["opcua"], "--user", "olga=shift-lead"], timeout=180)
-        lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-        if not lines:
-            fail(f"node-opcua printed no result:\n{proc.stdout}\n{proc.stderr}")
-        out = json.loads(lines[-1])
+        out = run_peer(ready()["opcua"])
     finally:
         rc = process.stop()
-    print(json.dumps(out, indent=1))
-    check(out["errors"] == [], f"every node-opcua step succeeded: {out['errors']}\n{process.output()[-3000:]}")
+    check_session(out, name, process.output())
     check(rc == 0, f"{command} stops cleanly on SIGTERM (exit {rc})")
     return out
 
 
-def check_drive(out, name, serial, device_class):
-    check(out["machines"] == [{"name": name, "namespace": ONTOLOGY}],
-          f"Objects/Machines holds the ontology's individual {name}: {out['machines']}")
-    check(out["identification"].get("SerialNumber") == serial
-          and out["identification"].get("DeviceClass") == device_class,
-          f"Identification (OPC 40001-1): {out['identification']}")
-    check(out["stateBefore"] == STOPPED, f"StateCurrent reads Stopped (2): {out['stateBefore']}")
-    check(out["viewerHold"] == "BadUserAccessDenied", f"a viewer's Hold: {out['viewerHold']}")
-    calls = [(c["method"], c["status"]) for c in out["calls"]]
-    check(calls == [("Reset", "Good"), ("Start", "Good"), ("Hold", "Good"), ("Unhold", "Good"),
-                    ("Unhold", "BadInvalidState")], f"the operator's calls: {calls}")
-    settled = [s for s in out["states"] if s not in (RESETTING, STARTING, HOLDING, UNHOLDING)]
-    dedup = [s for i, s in enumerate(settled) if i == 0 or settled[i - 1] != s]
-    check(dedup == [STOPPED, IDLE, EXECUTE, HELD, EXECUTE], f"StateCurrent notifications: {out['states']}")
-
-
 def main():
-    peer = node_peer("opcua/machine_model_client.mjs")
     with tempfile.TemporaryDirectory(prefix="controller_opcua_") as tmp:
-        root = source_dir()
-        nodeset = os.path.join(tmp, "candy.xml")
-        sf("kb", "to-nodeset", os.path.join(root, "ontology", "candy-factory.ttl"),
-           os.path.join(root, "ontology", "prototype-line.ttl"), "-o", nodeset)
-        users = os.path.join(tmp, "users.yaml")
-        with open(os.path.join(tmp, "olga.pw"), "w") as f:
-            f.write("shift-lead\n")
-        sf("opcua", "users", "add", users, "olga", "--role", "operator", "--password-file",
-           os.path.join(tmp, "olga.pw"))
+        nodeset = ontology_nodeset(tmp)
+        users = make_users(tmp)
         plant = Background([binary(), "plant", "--json", "--ecat-port", "0", "--status-interval", "0"],
                            log=os.path.join(tmp, "plant.log"))
         try:
@@ -99,7 +64,10 @@ def main():
                 config = os.path.join(tmp, command + ".yaml")
                 with open(config, "w") as f:
                     f.write(controller_config(kind, tmp, endpoints, users, nodeset))
-                check_drive(drive(command, config, tmp, peer), name, serial, device_class)
+                out = drive(command, config, tmp, name)
+                check(out["identification"].get("SerialNumber") == serial
+                      and out["identification"].get("DeviceClass") == device_class,
+                      f"Identification (OPC 40001-1): {out['identification']}")
         finally:
             rc_plant = plant.stop()
         check(rc_plant == 0, f"the plant stops cleanly ({rc_plant})")

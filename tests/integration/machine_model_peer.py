@@ -4,7 +4,7 @@ operator olga, running the peer, and the checks of the session it reports."""
 import json
 import os
 
-from sftest import binary, check, fail, node_peer, run, source_dir
+from sftest import binary, check, node_peer_result, run, source_dir
 
 ONTOLOGY = "http://smartfactory.example/ontology/candy"
 STOPPED, IDLE, EXECUTE, HELD, RESETTING, STARTING, HOLDING, UNHOLDING = 2, 4, 6, 11, 15, 3, 10, 12
@@ -35,11 +35,7 @@ def make_users(tmp):
 
 def run_peer(url):
     """node-opcua against `url` as an anonymous viewer and as olga; its JSON result."""
-    proc = run(node_peer("opcua/machine_model_client.mjs") + [url, "--user", "olga=shift-lead"], timeout=180)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        fail(f"node-opcua printed no result:\n{proc.stdout}\n{proc.stderr}")
-    return json.loads(lines[-1])
+    return node_peer_result("opcua/machine_model_client.mjs", [url, "--user", "olga=shift-lead"], timeout=180)
 
 
 def check_session(out, name, log=""):

@@ -12,7 +12,7 @@ import os
 import subprocess
 import tempfile
 
-from sftest import Background, binary, check, fail, node_peer, run, wait_for_line
+from sftest import Background, binary, check, fail, node_peer, node_peer_result, run, wait_for_line
 
 DEMO = "nsu=urn:smartfactory:demo;s="
 
@@ -33,11 +33,7 @@ def start_our_server(tmp):
 
 
 def node_client_against(url):
-    proc = run(node_peer("opcua/node_client.js") + [url, "--samples", "4"], timeout=120)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        fail(f"node-opcua client printed no result:\n{proc.stdout}\n{proc.stderr}")
-    return json.loads(lines[-1])
+    return node_peer_result("opcua/node_client.js", [url, "--samples", "4"])
 
 
 def check_node_client_results(out):

@@ -11,7 +11,7 @@ import json
 import os
 import tempfile
 
-from sftest import Background, binary, check, fail, node_peer, run, wait_for_line
+from sftest import Background, binary, check, fail, node_peer, node_peer_result, run, wait_for_line
 
 
 def cli(*args, check_rc=True):
@@ -27,11 +27,7 @@ def cli_json(*args):
 
 
 def node_json(*args):
-    proc = run(node_peer("opcua/nodeset_peer.mjs") + list(args), timeout=120)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        fail(f"nodeset_peer {' '.join(args)} printed nothing:\n{proc.stdout}\n{proc.stderr}")
-    return json.loads(lines[-1])
+    return node_peer_result("opcua/nodeset_peer.mjs", args)
 
 
 def our_export_in_node_opcua(tmp):

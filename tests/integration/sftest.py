@@ -38,6 +38,15 @@ def node_peer(script):
     return ["node", os.path.join(root, "tests", "peers", script)]
 
 
+def node_peer_result(script, args, timeout=120):
+    """Runs a node peer (see node_peer) and returns the JSON object on its last line starting with '{'."""
+    proc = run(node_peer(script) + list(args), timeout=timeout)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
+    if not lines:
+        fail(f"{script} {' '.join(args)} printed no result:\n{proc.stdout}\n{proc.stderr}")
+    return json.loads(lines[-1])
+
+
 def wait_for_line(background, prefix, timeout):
     """Waits until the background process's log has a line starting with prefix; returns it."""
     found = []

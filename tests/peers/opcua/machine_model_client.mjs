@@ -3,9 +3,9 @@
 //
 //   node tests/peers/opcua/machine_model_client.mjs URL --user NAME=PASSWORD [--timeout-ms T]
 //
-// As an anonymous viewer: browses Objects/Machines to the machine, reads its Identification and
-// PackML Status.StateCurrent, calls Hold (refused). As the operator NAME (a UserName token on the
-// None endpoint, its password encrypted for the server): subscribes to StateCurrent and calls
+// As an anonymous viewer: browses Objects/Machines to the machine, reads its Identification,
+// PackML Status.StateCurrent and every variable under Tags, calls Hold (refused). As the operator
+// NAME (a UserName token on the None endpoint, its password encrypted for the server): subscribes to StateCurrent and calls
 // Reset, Start, Hold, Unhold and Unhold again, waiting after each accepted call for the state it
 // leads to. Prints one JSON document on stdout; steps that fail are listed in "errors".
 import "./quiet_console.mjs";
@@ -15,6 +15,7 @@ import {
   AttributeIds,
   ClientMonitoredItem,
   ClientSubscription,
+  DataType,
   MessageSecurityMode,
   OPCUAClient,
   SecurityPolicy,
@@ -55,6 +56,16 @@ function connectOptions() {
   };
 }
 
+// Every variable of the machine's Tags folder: its value's DataType and its StatusCode.
+async function readTags(session, machine) {
+  const tags = {};
+  for (const r of await children(session, await resolve(session, machine, "Tags"))) {
+    const dv = await session.read({ nodeId: r.nodeId, attributeId: AttributeIds.Value });
+    tags[r.browseName.name] = { type: DataType[dv.value.dataType], status: dv.statusCode.name };
+  }
+  return tags;
+}
+
 // The viewer's part: browse, read, a refused call. Returns what the operator needs.
 async function asViewer(args, out) {
   const client = OPCUAClient.create(connectOptions());
@@ -71,6 +82,7 @@ async function asViewer(args, out) {
     for (const name of ["Manufacturer", "Model", "SerialNumber", "DeviceClass"]) {
       out.identification[name] = (await value(session, await resolve(session, machine, `Identification/${name}`))).value;
     }
+    out.tags = await readTags(session, machine);
     const ids = {
       machine,
       state: await resolve(session, machine, "PackML/Status/StateCurrent"),

@@ -1,0 +1,151 @@
+// OrderAgent: the product agent of one order (paper §IV.B, §VII): the box
+// negotiates its own way through the line. Its operations come from the
+// order (upload a box of its type, the loads of load_tasks(), download); for
+// each one, in order:
+//
+//   1. negotiate the operation in the MachiningDomain (Contract Net) until a
+//      machine has confirmed it;
+//   2. only then negotiate the route from where the box is to that machine's
+//      station in the ConveyingDomain, and award each conveyor of the route
+//      its hop ("transport", one conveyor after the other), so a box never
+//      waits for a machine that has not confirmed;
+//   3. the machine begins the job when its tag reader reads the box in place,
+//      and its INFORM-DONE ends the step.
+//
+// If the machine fails or is lost, the manager negotiates the operation again
+// and the box is routed to the new machine from where it stands. A
+// conversation that finds no machine at all, or a route or transport that
+// fails, is tried again after a delay. The downloader's inspection (weight,
+// candies per type) ends the order: it is done when the content equals the
+// order, failed ("content mismatch") otherwise. Every step is reported as an
+// OrderEvent, the order's lifecycle for the cloud.
+//
+// Single-threaded, like the Manager and RoutePlanner it runs on (shared with
+// the other products of its host).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sf/core/clock.hpp"
+#include "sf/factory/order.hpp"
+#include "sf/line/layout.hpp"
+#include "sf/negotiation/manager.hpp"
+#include "sf/negotiation/route.hpp"
+
+namespace sf::factory {
+
+struct OrderAgentOptions {
+  int max_per_load = 4;  // candies per robot visit; longer lines are split
+  std::chrono::nanoseconds retry_delay{std::chrono::seconds{1}};
+  std::uint32_t max_retries = 30;  // per step, then the order fails
+};
+
+struct OrderEvent {
+  Clock::time_point at{};
+  std::string order;
+  // accepted, awarded, routed, transported, uploaded, loaded, inspected, done, failed, retry, remade
+  std::string what;
+  std::string machine;  // the machine or conveyor it concerns
+  std::string detail;
+};
+
+// The downloader's inspection of a finished box.
+struct BoxInspection {
+  std::uint16_t box = 0;
+  double weight_g = 0.0;
+  std::map<std::string, int> counts;  // per candy type, zero counts left out
+};
+
+using OrderEventSink = std::function<void(const OrderEvent&)>;
+
+// What the products of one host run on: the line's layout (stations, places,
+// catalog), the host's Contract Net manager and route planner, its clock.
+struct ProductContext {
+  const line::Layout* layout = nullptr;
+  negotiation::Manager* manager = nullptr;
+  negotiation::RoutePlanner* planner = nullptr;
+  const Clock* clock = nullptr;
+};
+
+class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
+ public:
+  // `product` names the order's product in the Contract Net (unique per attempt).
+  static std::shared_ptr<OrderAgent> create(Order order, std::string product, const ProductContext& context,
+                                            OrderAgentOptions options, OrderEventSink sink);
+  OrderAgent(const OrderAgent&) = delete;
+  OrderAgent& operator=(const OrderAgent&) = delete;
+
+  Status start();
+  // Runs a retry that is due.
+  void tick();
+
+  [[nodiscard]] bool finished() const { return finished_; }
+  [[nodiscard]] bool ok() const { return finished_ && failure_.empty(); }
+  [[nodiscard]] const std::string& failure() const { return failure_; }
+  [[nodiscard]] const Order& order() const { return order_; }
+  [[nodiscard]] const std::string& product() const { return product_; }
+  [[nodiscard]] std::uint16_t box() const { return box_; }
+  [[nodiscard]] const std::string& location() const { return location_; }
+  [[nodiscard]] const std::optional<BoxInspection>& inspection() const { return inspection_; }
+
+ private:
+  struct StepOp {
+    std::string type;
+    std::vector<negotiation::Param> params;
+  };
+  struct Hop {
+    std::string conveyor;
+    std::string from;
+    std::string to;
+  };
+
+  OrderAgent(Order order, std::string product, const ProductContext& context, OrderAgentOptions options,
+             OrderEventSink sink);
+
+  void begin_step();
+  void on_confirmed(const negotiation::Conversation& c);
+  void on_work_done(const negotiation::Conversation& c);
+  void route_to_machine();
+  void on_route(const Result<negotiation::Route>& route);
+  void next_transport();
+  void retry(std::string why, std::function<void()> again);
+  void finish(std::string failure);
+  void emit(std::string what, std::string machine, std::string detail);
+  [[nodiscard]] std::string station_of(const std::string& machine) const;
+  [[nodiscard]] std::string verify(const BoxInspection& inspection) const;
+  // A callback that reaches this agent while it lives (the manager may outlive it).
+  template <typename F>
+  auto guarded(F f);
+
+  Order order_;
+  std::string product_;
+  ProductContext context_;
+  const line::Layout* layout_;
+  const Clock* clock_;
+  OrderAgentOptions options_;
+  OrderEventSink sink_;
+
+  std::vector<StepOp> steps_;
+  std::size_t step_ = 0;
+  std::uint32_t retries_ = 0;
+  std::string machine_;  // confirmed for the current step
+  std::string target_;   // its station
+  bool moving_ = false;  // a route or transport in progress
+  std::vector<Hop> hops_;
+  std::string location_;
+  std::uint16_t box_ = 0;
+  std::optional<BoxInspection> inspection_;
+  std::optional<Clock::time_point> retry_at_;
+  std::function<void()> retry_;
+  bool finished_ = false;
+  std::string failure_;
+};
+
+}  // namespace sf::factory

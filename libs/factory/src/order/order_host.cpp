@@ -1,0 +1,141 @@
+#include "sf/factory/order_host.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace sf::factory {
+
+std::string_view to_string(OrderState s) {
+  switch (s) {
+    case OrderState::queued:
+      return "queued";
+    case OrderState::in_work:
+      return "in work";
+    case OrderState::done:
+      return "done";
+    case OrderState::failed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::size_t safe_wip(const line::Layout& layout) {
+  // Breadth-first from each belt back to itself: the shortest cycle through it.
+  const std::size_t n = layout.belts.size();
+  std::size_t shortest = std::numeric_limits<std::size_t>::max();
+  for (std::size_t start = 0; start < n; ++start) {
+    std::vector<std::size_t> depth(n, 0);
+    std::vector<std::size_t> frontier{start};
+    for (std::size_t d = 1; !frontier.empty() && d < shortest; ++d) {
+      std::vector<std::size_t> next;
+      for (std::size_t b : frontier) {
+        for (const auto& name : layout.belts[b].next) {
+          const std::size_t to = *layout.belt_index(name);
+          if (to == start) {
+            shortest = std::min(shortest, d);
+          } else if (depth[to] == 0) {
+            depth[to] = d;
+            next.push_back(to);
+          }
+        }
+      }
+      frontier = std::move(next);
+    }
+  }
+  if (shortest == std::numeric_limits<std::size_t>::max()) {
+    return std::max<std::size_t>(1, n);
+  }
+  return std::max<std::size_t>(1, shortest - 1);
+}
+
+OrderHost::OrderHost(const ProductContext& context, OrderHostOptions options, OrderEventSink sink)
+    : context_(context),
+      options_(options),
+      sink_(std::move(sink)),
+      wip_(options.wip == 0 ? safe_wip(*context.layout) : options.wip) {}
+
+Status OrderHost::submit(Order order) {
+  if (order.id.empty()) {
+    return make_error(Errc::invalid_argument, "an order needs an id");
+  }
+  if (records_.contains(order.id)) {
+    return make_error(Errc::invalid_argument, fmt::format("order '{}' was accepted before", order.id));
+  }
+  if (auto valid = validate(order, context_.layout->catalog); !valid) {
+    return make_error(Errc::invalid_argument, fmt::format("order '{}': {}", order.id, valid.error().message));
+  }
+  const std::string id = order.id;
+  OrderRecord& r = records_[id];
+  r.order = std::move(order);
+  r.accepted = context_.clock->now();
+  queue_.push_back(id);
+  emit(id, "accepted", fmt::format("{} with {} candies", r.order.box_type, r.order.total()));
+  return {};
+}
+
+void OrderHost::tick() {
+  while (!queue_.empty() && agents_.size() < wip_) {
+    OrderRecord& r = records_.at(queue_.front());
+    queue_.pop_front();
+    admit(r);
+  }
+  for (std::size_t i = 0; i < agents_.size();) {
+    agents_[i]->tick();
+    if (agents_[i]->finished()) {
+      const auto agent = agents_[i];
+      agents_.erase(agents_.begin() + static_cast<std::ptrdiff_t>(i));
+      settle(*agent);
+    } else {
+      ++i;
+    }
+  }
+}
+
+void OrderHost::admit(OrderRecord& r) {
+  ++r.attempts;
+  r.state = OrderState::in_work;
+  auto agent = OrderAgent::create(r.order, fmt::format("{}.{}", r.order.id, r.attempts), context_,
+                                  options_.agent, sink_);
+  agents_.push_back(agent);
+  if (auto started = agent->start(); !started) {
+    r.failure = started.error().describe();
+  }
+}
+
+void OrderHost::settle(const OrderAgent& agent) {
+  OrderRecord& r = records_.at(agent.order().id);
+  if (agent.box() != 0) {
+    r.boxes.push_back(agent.box());
+  }
+  r.inspection = agent.inspection();
+  r.failure = agent.failure();
+  if (agent.ok()) {
+    r.state = OrderState::done;
+    r.finished = context_.clock->now();
+    return;
+  }
+  if (r.attempts < options_.max_attempts) {
+    r.state = OrderState::queued;
+    queue_.push_front(r.order.id);
+    ++remade_;
+    emit(r.order.id, "remade", fmt::format("attempt {} failed: {}", r.attempts, r.failure));
+    return;
+  }
+  r.state = OrderState::failed;
+  r.finished = context_.clock->now();
+}
+
+std::size_t OrderHost::count(OrderState state) const {
+  return static_cast<std::size_t>(std::count_if(records_.begin(), records_.end(),
+                                                [state](const auto& r) { return r.second.state == state; }));
+}
+
+void OrderHost::emit(const std::string& order, std::string what, std::string detail) {
+  if (sink_) {
+    sink_({context_.clock->now(), order, std::move(what), {}, std::move(detail)});
+  }
+}
+
+}  // namespace sf::factory

@@ -1,0 +1,77 @@
+// Simulation: the deterministic mode of the factory (docs/factory.md). The
+// plant, every shop-floor controller and the order service's products run in
+// one process on one ManualClock, over in-memory links and transports:
+//
+//   plant ── in-memory EtherCAT segment ── our master ── SmartRobot ─┐
+//         ── modbus::MemoryClient (the PLC's own request path) ── Gateway ─┤ MemoryNetwork
+//                                                      OrderHost (products) ┘ (Contract Net)
+//
+// The controllers and agents are the deployment's own classes, unchanged;
+// only the links are in memory and time is simulated, one millisecond per
+// step (the EtherCAT cycle; gateways poll on their own period). A run with a
+// given seed repeats exactly, so thousands of orders take seconds and a
+// failing run can be replayed.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sf/core/clock.hpp"
+#include "sf/core/result.hpp"
+#include "sf/factory/order_host.hpp"
+#include "sf/line/layout.hpp"
+
+namespace sf::plant {
+class Plant;
+}
+
+namespace sf::simulation {
+
+struct SimulationOptions {
+  std::uint64_t seed = 1;
+  factory::OrderHostOptions host;
+};
+
+// One line of the run's log: an order's event or the plant's, in time order.
+struct LogLine {
+  std::chrono::nanoseconds at{};
+  std::string text;
+  friend bool operator==(const LogLine&, const LogLine&) = default;
+};
+
+class Simulation {
+ public:
+  // Builds the plant and a controller for each of its machines, all started
+  // (PackML Execute); errors: a machine that does not come up, a layout whose
+  // operations no machine can do.
+  static Result<std::unique_ptr<Simulation>> create(line::Layout layout, SimulationOptions options = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  Status submit(factory::Order order);
+  // One millisecond of the whole line.
+  void step();
+  // Steps until `done` or `limit` of simulated time has passed; whether `done` came true.
+  bool run_until(const std::function<bool()>& done, std::chrono::nanoseconds limit);
+
+  [[nodiscard]] Clock::time_point now() const;
+  [[nodiscard]] const factory::OrderHost& host() const;
+  [[nodiscard]] const plant::Plant& plant() const;
+  // The orders' events and the plant's, merged in time order.
+  [[nodiscard]] std::vector<LogLine> log() const;
+  [[nodiscard]] const std::vector<factory::OrderEvent>& order_events() const;
+  // Contract Net messages sent so far (both domains).
+  [[nodiscard]] std::uint64_t messages() const;
+
+ private:
+  struct Parts;
+  explicit Simulation(std::unique_ptr<Parts> parts);
+  std::unique_ptr<Parts> parts_;
+};
+
+}  // namespace sf::simulation

@@ -51,4 +51,7 @@ void register_history(CLI::App& app, CommandResult& result);
 // `gateway --config FILE` (factory module): a legacy machine's gateway.
 void register_gateway(CLI::App& app, CommandResult& result);
 
+// `simulate` (simulation module): the factory in its deterministic mode.
+void register_simulate(CLI::App& app, CommandResult& result);
+
 }  // namespace sf::app

@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
   sf::app::register_machine(app, result);
   sf::app::register_gateway(app, result);
 #endif
+#ifdef SF_HAVE_SIMULATION
+  sf::app::register_simulate(app, result);
+#endif
 
   try {
     app.parse(argc, argv);

@@ -116,7 +116,7 @@ void OrderAgent::on_work_done(const cnp::Conversation& c) {
     }
     inspection_ = in;
     emit("inspected", c.contractor, c.result);
-    return finish(verify(in));
+    return finish(rejected_.empty() ? verify(in) : rejected_);
   }
   ++step_;
   retries_ = 0;
@@ -193,11 +193,24 @@ void OrderAgent::next_transport() {
 
 void OrderAgent::retry(std::string why, std::function<void()> again) {
   if (++retries_ > options_.max_retries) {
-    return finish(fmt::format("gave up after {} tries: {}", options_.max_retries, why));
+    return give_up(fmt::format("gave up after {} tries: {}", options_.max_retries, why));
   }
   emit("retry", machine_, why);
   retry_at_ = clock_->now() + options_.retry_delay;
   retry_ = std::move(again);
+}
+
+void OrderAgent::give_up(std::string failure) {
+  // A box left on the line would stand in others' way: it goes to the downloader as a reject
+  // (once; if even that fails, the box stays where it is and the order fails).
+  if (box_ == 0 || !rejected_.empty() || steps_[step_].type == kDownload) {
+    return finish(rejected_.empty() ? std::move(failure) : rejected_);
+  }
+  rejected_ = std::move(failure);
+  emit("rejected", machine_, rejected_);
+  step_ = steps_.size() - 1;
+  retries_ = 0;
+  begin_step();
 }
 
 void OrderAgent::finish(std::string failure) {

@@ -17,7 +17,9 @@
 // conversation that finds no machine at all, or a route or transport that
 // fails, is tried again after a delay. The downloader's inspection (weight,
 // candies per type) ends the order: it is done when the content equals the
-// order, failed ("content mismatch") otherwise. Every step is reported as an
+// order, failed ("content mismatch") otherwise. A box whose order cannot be
+// finished (a step failed again and again) is taken off the line as a reject
+// by the downloader, so that it does not stand in the way of others. Every step is reported as an
 // OrderEvent, the order's lifecycle for the cloud.
 //
 // Single-threaded, like the Manager and RoutePlanner it runs on (shared with
@@ -50,7 +52,8 @@ struct OrderAgentOptions {
 struct OrderEvent {
   Clock::time_point at{};
   std::string order;
-  // accepted, awarded, routed, transported, uploaded, loaded, inspected, done, failed, retry, remade
+  // accepted, awarded, routed, transported, uploaded, loaded, inspected, done, failed, retry,
+  // rejected, remade
   std::string what;
   std::string machine;  // the machine or conveyor it concerns
   std::string detail;
@@ -116,6 +119,7 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   void on_route(const Result<negotiation::Route>& route);
   void next_transport();
   void retry(std::string why, std::function<void()> again);
+  void give_up(std::string failure);
   void finish(std::string failure);
   void emit(std::string what, std::string machine, std::string detail);
   [[nodiscard]] std::string station_of(const std::string& machine) const;
@@ -146,6 +150,7 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   std::function<void()> retry_;
   bool finished_ = false;
   std::string failure_;
+  std::string rejected_;  // why the box is on its way out as a reject
 };
 
 }  // namespace sf::factory

@@ -1,0 +1,100 @@
+#include "sf/simulation/run.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "sf/factory/order.hpp"
+#include "sf/plant/plant.hpp"
+
+namespace sf::simulation {
+
+double RunReport::boxes_per_hour() const {
+  const double hours = std::chrono::duration<double>(simulated).count() / 3600.0;
+  return hours > 0.0 ? static_cast<double>(done) / hours : 0.0;
+}
+
+double RunReport::speedup() const {
+  return wall.count() > 0 ? static_cast<double>(simulated.count()) / static_cast<double>(wall.count()) : 0.0;
+}
+
+namespace {
+
+std::chrono::nanoseconds quantile(std::vector<std::chrono::nanoseconds> v, double q) {
+  if (v.empty()) {
+    return {};
+  }
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+RunReport report(const Simulation& sim, Clock::time_point started,
+                 std::chrono::steady_clock::time_point wall) {
+  RunReport r;
+  std::vector<std::chrono::nanoseconds> leads;
+  for (const auto& [id, rec] : sim.host().records()) {
+    ++r.submitted;
+    if (rec.state == factory::OrderState::done) {
+      ++r.done;
+      leads.push_back(rec.finished - rec.accepted);
+    } else if (rec.state == factory::OrderState::failed) {
+      ++r.failed;
+    } else {
+      ++r.unfinished;
+    }
+  }
+  r.remade = sim.host().remade();
+  r.lead_p50 = quantile(leads, 0.5);
+  r.lead_p99 = quantile(leads, 0.99);
+  r.simulated = sim.now() - started;
+  r.wall = std::chrono::steady_clock::now() - wall;
+  r.messages = sim.messages();
+  return r;
+}
+
+}  // namespace
+
+RunReport run_orders(Simulation& sim, const RunOptions& options) {
+  factory::OrderGenerator orders(sim.plant().layout().catalog, options.seed);
+  const Clock::time_point started = sim.now();
+  const auto wall = std::chrono::steady_clock::now();
+  const auto end = options.duration.count() > 0 ? started + options.duration : Clock::time_point::max();
+  auto next_progress = started + options.progress_every;
+  auto finished = [&] {
+    return sim.host().count(factory::OrderState::done) + sim.host().count(factory::OrderState::failed);
+  };
+  // With a count, every order is in from the start; over a span, the queue is kept topped up.
+  std::size_t submitted = 0;
+  auto top_up = [&] {
+    const std::size_t want = options.orders > 0 ? options.orders : finished() + 2 * sim.host().wip();
+    for (; submitted < want; ++submitted) {
+      (void)sim.submit(orders.next());
+    }
+  };
+  std::size_t last_finished = 0;
+  Clock::time_point last_change = started;
+  bool stalled = false;
+  while (sim.now() < end && (options.orders == 0 || finished() < options.orders)) {
+    if (options.stop && options.stop()) {
+      break;
+    }
+    if (const std::size_t f = finished(); f != last_finished) {
+      last_finished = f;
+      last_change = sim.now();
+    } else if (sim.now() - last_change > options.stall_after) {
+      stalled = true;
+      break;
+    }
+    top_up();
+    sim.step();
+    if (options.progress && sim.now() >= next_progress) {
+      next_progress += options.progress_every;
+      options.progress(report(sim, started, wall));
+    }
+  }
+  RunReport r = report(sim, started, wall);
+  r.stalled = stalled;
+  return r;
+}
+
+}  // namespace sf::simulation

@@ -51,11 +51,19 @@ Status JobQueue::cancel(const std::string& id) {
 }
 
 bool JobQueue::begin_next() {
-  if (current_ || queue_.empty()) {
+  return begin_next([](const Operation&) { return true; });
+}
+
+bool JobQueue::begin_next(const std::function<bool(const Operation&)>& ready) {
+  if (current_) {
     return false;
   }
-  current_ = std::move(queue_.front());
-  queue_.pop_front();
+  auto it = std::find_if(queue_.begin(), queue_.end(), [&](const QueuedJob& j) { return ready(j.op); });
+  if (it == queue_.end()) {
+    return false;
+  }
+  current_ = std::move(*it);
+  queue_.erase(it);
   return true;
 }
 

@@ -92,13 +92,19 @@ TEST(GatewayConveyor, RefusesWhatItsBeltCannotDo) {
   ASSERT_FALSE(refused);
   EXPECT_EQ(refused.error().code, Errc::state);
 
-  // A box that is not where the transport starts: FAILURE at once, nothing moves.
+  // A box that is not where the transport starts: the transport waits for it, nothing moves.
   const auto id = rig.put_box("conveyor4/denso");
-  const JobOutcome o = rig.run_job(c4, "t1", rig.transport(id + 1, "conveyor4/denso", "conveyor4/download"));
-  EXPECT_FALSE(o.ok);
-  EXPECT_EQ(o.detail, fmt::format("box {} is not at conveyor4/denso: box {} is", id + 1, id));
+  ASSERT_TRUE(c4.submit("t1", rig.transport(id + 1, "conveyor4/denso", "conveyor4/download")));
+  rig.run_for(2s);
+  EXPECT_FALSE(rig.ended("t1"));
+  EXPECT_FALSE(c4.status().job);
+  EXPECT_EQ(c4.status().queued, 1U);
+  EXPECT_FALSE(std::get<bool>(tag(c4.status(), "plc.running").value));
   EXPECT_EQ(rig.world().box_in_place(3, 0), rig.world().box(id));
-  EXPECT_EQ(c4.status().packml.defective, 1U);
+  ASSERT_TRUE(c4.cancel("t1"));
+  rig.step();
+  EXPECT_EQ(rig.outcome("t1").detail, "cancelled before it started");
+  EXPECT_EQ(c4.status().packml.defective, 0U);
 }
 
 TEST(GatewayLegacyRobot, LoadsCandiesThroughItsControllersHandshake) {
@@ -158,12 +164,14 @@ TEST(GatewayDownloader, TakesTheBoxOffAndReportsTheInspection) {
   EXPECT_EQ(rig.world().box(id), nullptr);
   EXPECT_EQ(std::get<double>(tag(down.status(), "plc.weight").value), 40.0);
 
-  // No box at the station: the PLC's fault fails the job, and the next job runs again.
-  const JobOutcome none = rig.run_job(down, "d2", {"download", {{"box", id}}});
-  EXPECT_FALSE(none.ok);
-  EXPECT_EQ(none.detail, "downloader: no box at the station (PLC fault 3)");
+  // No box at the station: the job waits for its box; the PLC is not started on an empty station.
+  ASSERT_TRUE(down.submit("d2", {"download", {{"box", id + 1}}}));
+  rig.run_for(2s);
+  EXPECT_FALSE(rig.ended("d2"));
+  EXPECT_EQ(down.status().queued, 1U);
+  EXPECT_EQ(std::get<std::int64_t>(tag(down.status(), "plc.jobs_done").value), 1);
   EXPECT_EQ(down.status().packml.state, S::Execute);
-  EXPECT_EQ(down.status().fault, "");  // the gateway reset the job's fault
+  EXPECT_EQ(down.status().fault, "");
 }
 
 // upload → conveyor1 → conveyor3 → TOSHIBA loads toffee → conveyor3 → conveyor4 → DENSO loads a

@@ -53,6 +53,13 @@ class SmartRobotTest : public ::testing::Test {
 
   int candy(std::string_view name) const { return rig.candy(name); }
   plant::BoxId place_box() { return rig.place_box(); }
+  // An empty small box at the uploader's station, on its way to the robot.
+  plant::BoxId upload_box() {
+    auto id = rig_.world().place_box(rig.box_type("small-box"),
+                                     *line::find_station(rig_.layout(), "conveyor1/upload"), "test");
+    EXPECT_TRUE(id) << id.error().describe();
+    return id ? *id : 0;
+  }
   void inject(std::string_view fault) { rig.inject(fault); }
   void clear(std::string_view fault) { rig.clear(fault); }
 
@@ -269,6 +276,61 @@ TEST_F(SmartRobotTest, ACancelledJobEndsAndTheNextRuns) {
   EXPECT_EQ(outcomes_[2].job, "j3");
   EXPECT_TRUE(outcomes_[2].ok) << outcomes_[2].detail;
   EXPECT_EQ(robot_.cancel("nope").error().code, Errc::not_found);
+}
+
+// Many boxes on the line: the job whose box stands at the station begins,
+// the earlier one keeps waiting for its own box (no deadlock behind it).
+TEST_F(SmartRobotTest, TheJobWhoseBoxArrivesFirstRunsFirstAndTheOtherWaitsForItsBox) {
+  to_execute();
+  const plant::BoxId b1 = upload_box();
+  const plant::BoxId b2 = place_box();
+  ASSERT_TRUE(robot_.submit("for-b1", load("gummy", 1, 0, b1)));
+  ASSERT_TRUE(robot_.submit("for-b2", load("chocolate", 2, 5, b2)));
+  ASSERT_TRUE(until_outcomes(1));
+  EXPECT_EQ(outcomes_[0].job, "for-b2");
+  EXPECT_TRUE(outcomes_[0].ok) << outcomes_[0].detail;
+  EXPECT_EQ(rig_.world().box(b2)->slots[5], candy("chocolate"));
+  EXPECT_EQ(rig_.world().box(b2)->slots[6], candy("chocolate"));
+  EXPECT_EQ(rig_.world().box(b2)->slots[0], -1);  // b1's candy did not go into b2
+  // b1's job waits while b1 is elsewhere.
+  rig_.run_for(500ms);
+  EXPECT_EQ(outcomes_.size(), 1U);
+  EXPECT_EQ(robot_.status().queued, 1U);
+  EXPECT_FALSE(robot_.arm().moving());
+  // b2 leaves (the downloader's hand), b1 is carried to the station and gets its candy.
+  ASSERT_TRUE(rig_.world().take_box(*line::find_station(rig_.layout(), "conveyor2/scara1"), "test"));
+  rig_.step();  // the PLCs' next scan sees the station empty
+  rig_.convey({"conveyor1", "conveyor2"}, 0);
+  ASSERT_TRUE(until_outcomes(2));
+  EXPECT_EQ(outcomes_[1].job, "for-b1");
+  EXPECT_TRUE(outcomes_[1].ok) << outcomes_[1].detail;
+  EXPECT_EQ(rig_.world().box(b1)->slots[0], candy("gummy"));
+}
+
+TEST_F(SmartRobotTest, ABoxPassingThroughTheStationDoesNotStartItsJob) {
+  to_execute();
+  const plant::BoxId box = upload_box();
+  ASSERT_TRUE(robot_.submit("j1", load("gummy", 1, 0, box)));
+  // Every stopper down, conveyor1 and conveyor2 running: the box rides through the
+  // robot's station and waits at the end of conveyor2 (conveyor4 stands still).
+  for (const char* belt : {"conveyor1", "conveyor2"}) {
+    rig_.coil(belt, line::conveyor_plc::kStopper, false);
+    rig_.coil(belt, line::conveyor_plc::kMotorRun, true);
+  }
+  const std::size_t conveyor2 = *rig_.layout().belt_index("conveyor2");
+  bool passed = false;
+  ASSERT_TRUE(rig_.run_until(
+      [&] {
+        passed = passed || rig_.world().box_in_place(conveyor2, 0) != nullptr;
+        return rig_.world().box(box)->belt == conveyor2 && rig_.world().box(box)->s > 2.5;
+      },
+      20s));
+  EXPECT_TRUE(passed);
+  rig_.run_for(200ms);
+  EXPECT_TRUE(outcomes_.empty());
+  EXPECT_FALSE(robot_.status().job) << "the job began for a box that only passed by";
+  EXPECT_EQ(robot_.status().queued, 1U);
+  EXPECT_FALSE(robot_.arm().moving());
 }
 
 }  // namespace

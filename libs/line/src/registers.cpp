@@ -52,7 +52,7 @@ constexpr RegisterEntry kMap[] = {
     {Table::input_registers, kOdometer, "odometer", "belt travel in metres (wraps)"},
     {Table::input_registers, kStationCount, "station_count", "stations on this belt"},
     {Table::input_registers, kStationBox, "station_box[k]",
-     "16 + k: id of the box in place at station k, 0 = none"},
+     "16 + k: id of the box in place at station k (its tag reader), 0 = none"},
 };
 }  // namespace
 std::span<const RegisterEntry> map() {
@@ -76,6 +76,8 @@ constexpr RegisterEntry kMap[] = {
     {Table::input_registers, kJobsDone, "jobs_done", "jobs finished since power-on"},
     {Table::input_registers, kWeight, "weight", "downloader: weight of the last box, 0.1 g"},
     {Table::input_registers, kCandyTotal, "candy_total", "downloader: candies counted in the last box"},
+    {Table::input_registers, kStationBox, "station_box",
+     "id of the box in place at the machine's station (its tag reader), 0 = none"},
     {Table::input_registers, kCandyCount, "candy_count[c]", "16 + c: downloader: candies of catalog type c"},
 };
 }  // namespace
@@ -106,6 +108,8 @@ constexpr RegisterEntry kMap[] = {
     {Table::input_registers, kToolY, "tool_y", "tool point y, signed mm"},
     {Table::input_registers, kToolZ, "tool_z", "tool point z, signed mm"},
     {Table::input_registers, kPhase, "phase", "step of the running job, 0 = idle"},
+    {Table::input_registers, kStationBox, "station_box[k]",
+     "16 + k: id of the box in place at the robot's station k (its tag reader), 0 = none"},
 };
 }  // namespace
 std::span<const RegisterEntry> map() {

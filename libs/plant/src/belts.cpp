@@ -233,4 +233,12 @@ const Box* World::box_in_place(std::size_t b, std::size_t station) const {
   return found;
 }
 
+std::uint16_t World::tag_reading(std::size_t b, std::size_t station) const {
+  const Box* box = box_in_place(b, station);
+  if (box == nullptr || box->station != static_cast<int>(station)) {
+    return 0;
+  }
+  return static_cast<std::uint16_t>(box->id);
+}
+
 }  // namespace sf::plant

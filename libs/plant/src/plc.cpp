@@ -106,9 +106,7 @@ void ConveyorPlc::publish(const World& world) {
   for (std::size_t k = 0; k < stations.size(); ++k) {
     const auto offset = static_cast<std::uint16_t>(k);
     bank_.set_discrete_input(static_cast<std::uint16_t>(kStationEye + offset), world.station_eye(belt_, k));
-    const Box* box = world.box_in_place(belt_, k);
-    bank_.set_input_register(static_cast<std::uint16_t>(kStationBox + offset),
-                             box == nullptr ? 0 : static_cast<std::uint16_t>(box->id));
+    bank_.set_input_register(static_cast<std::uint16_t>(kStationBox + offset), world.tag_reading(belt_, k));
   }
 }
 

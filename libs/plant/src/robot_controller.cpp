@@ -198,6 +198,8 @@ void RobotControllerPlc::publish(const World& world) {
     const StationRef ref = *find_station(world.layout(), stations[k]);
     bank_.set_discrete_input(static_cast<std::uint16_t>(kBoxInPlace + k),
                              world.box_in_place(ref.belt, ref.station) != nullptr);
+    bank_.set_input_register(static_cast<std::uint16_t>(kStationBox + k),
+                             world.tag_reading(ref.belt, ref.station));
   }
   bank_.set_input_register(kFaultCode, static_cast<std::uint16_t>(job_.code()));
   bank_.set_input_register(kJobsDone, jobs_done_);

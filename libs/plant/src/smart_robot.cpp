@@ -51,12 +51,15 @@ void SmartRobotCell::scan(World& world) {
     inputs |= kDiPartPresent;
     inputs |= tool.gripper ? kDiVacuumOk : 0U;
   }
-  for (std::size_t k = 0; k < spec.stations.size() && kDiBoxInPlace + k < 32; ++k) {
+  for (std::size_t k = 0; k < spec.stations.size() && kDiBoxInPlace + k < kDiBoxId; ++k) {
     const StationRef ref = *find_station(world.layout(), spec.stations[k]);
     if (world.box_in_place(ref.belt, ref.station) != nullptr) {
       inputs |= 1U << (kDiBoxInPlace + k);
     }
   }
+  // The first station's tag reader, wired in parallel onto the upper half of the inputs.
+  const StationRef first = *find_station(world.layout(), spec.stations.front());
+  inputs |= std::uint32_t{world.tag_reading(first.belt, first.station)} << kDiBoxId;
   device.set_digital_inputs(inputs);
 }
 

@@ -37,6 +37,7 @@ void TransferPlc::run(World& world, double dt) {
   fault_code_ = job_.code();
   job_.publish(bank_);
   bank_.set_discrete_input(kBoxPresent, world.box_in_place(station_.belt, station_.station) != nullptr);
+  bank_.set_input_register(kStationBox, world.tag_reading(station_.belt, station_.station));
   bank_.set_input_register(kFaultCode, static_cast<std::uint16_t>(fault_code_));
   bank_.set_input_register(kJobsDone, jobs_done_);
 }

@@ -4,7 +4,10 @@
 // way lowered and the target's raised, the motor on; done when the target
 // station's tag reader reads the box, or, onto the next belt, when the exit
 // photo-eye has seen the box and then lost it. Between transports every
-// stopper stays raised, so boxes wait where they were brought.
+// stopper stays raised, so boxes wait where they were brought. A transport
+// begins only when its way is clear (ready()): its box at its start, no other
+// box at a station on the way or at the target, the exit free; a later
+// transport whose way is clear goes first (it may be the one that clears it).
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -54,6 +57,12 @@ class ConveyorLogic final : public DeviceLogic {
     return travel_time(route->metres, spec_.speed_mps) + config_.modbus.poll_period;
   }
 
+  // A transport begins once its way is clear; until then the belt serves the others.
+  [[nodiscard]] bool ready(const Operation& op, const PlcIo& io) const override {
+    auto route = resolve(op);
+    return route && !blocked(*route, io, true);
+  }
+
   void begin(const Operation& op) override {
     route_ = *resolve(op);  // duration() accepted it
     checked_ = false;
@@ -67,7 +76,7 @@ class ConveyorLogic final : public DeviceLogic {
       return std::nullopt;
     }
     if (!checked_) {
-      if (auto refused = check(io)) {
+      if (auto refused = blocked(route_, io, false)) {  // ready() saw it clear: the safety net
         return JobResult{false, *refused, {}, std::nullopt};
       }
       checked_ = true;
@@ -150,28 +159,35 @@ class ConveyorLogic final : public DeviceLogic {
   }
 
   // Stations the box passes between its start and its target.
-  [[nodiscard]] bool on_the_way(std::size_t k) const {
+  [[nodiscard]] bool on_the_way(const Route& r, std::size_t k) const {
     const double at = spec_.stations[k].at_m;
-    return at > route_.from.at_m && (route_.to.belt != belt_ || at < route_.to.at_m);
+    return at > r.from.at_m && (r.to.belt != belt_ || at < r.to.at_m);
   }
+  [[nodiscard]] bool on_the_way(std::size_t k) const { return on_the_way(route_, k); }
 
-  // Why the transport cannot begin, if it cannot.
-  [[nodiscard]] std::optional<std::string> check(const PlcIo& io) const {
-    if (route_.from.station) {
-      const std::uint16_t there = io.input_register(station_box(*route_.from.station));
-      if (there != route_.box) {
-        return there == 0
-                   ? fmt::format("box {} is not at {}: no box is", route_.box, route_.from.name)
-                   : fmt::format("box {} is not at {}: box {} is", route_.box, route_.from.name, there);
+  // Why the transport's way is not clear, if it is not: the box is not at its start (a
+  // station's tag reader, `steady` over two polls or as read now), another box stands at
+  // a station on the way or at the target, or a box waits at the exit. The box itself
+  // at a station on the way is no obstacle: waiting at the entry, it drifts up to the
+  // first station when the belt runs for another box ("conveyor2" is anywhere from the
+  // entry up to and including the first station).
+  [[nodiscard]] std::optional<std::string> blocked(const Route& r, const PlcIo& io, bool steady) const {
+    if (r.from.station) {
+      const auto reader = station_box(*r.from.station);
+      const std::uint16_t there = steady ? io.steady_input_register(reader) : io.input_register(reader);
+      if (there != r.box) {
+        return there == 0 ? fmt::format("box {} is not at {}: no box is", r.box, r.from.name)
+                          : fmt::format("box {} is not at {}: box {} is", r.box, r.from.name, there);
       }
     }
     for (std::size_t k = 0; k < spec_.stations.size(); ++k) {
       const std::uint16_t other = io.input_register(station_box(k));
-      if (on_the_way(k) && other != 0) {
+      const bool target = r.to.belt == belt_ && r.to.station == k;
+      if ((on_the_way(r, k) || target) && other != 0 && other != r.box) {
         return fmt::format("box {} stands in the way at {}/{}", other, spec_.name, spec_.stations[k].name);
       }
     }
-    if (route_.to.belt != belt_ && io.input(cp::kExitEye)) {
+    if (r.to.belt != belt_ && io.input(cp::kExitEye)) {
       return fmt::format("a box waits at the exit of {}", spec_.name);
     }
     return std::nullopt;

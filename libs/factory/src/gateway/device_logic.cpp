@@ -23,6 +23,12 @@ StopReason plc_stop_reason(const std::string& what, line::FaultCode code) {
   return StopReason{static_cast<std::int32_t>(code), fmt::format("{}: {}", what, describe(code)), {}};
 }
 
+bool box_read(const Operation& op, const PlcIo& io, std::uint16_t reader) {
+  const std::uint16_t read = io.steady_input_register(reader);
+  const auto box = op.param("box");
+  return read != 0 && box && *box == read;
+}
+
 Result<std::int64_t> int_param(const Operation& op, std::string_view name, std::int64_t lo, std::int64_t hi) {
   auto value = op.param(name);
   if (!value) {

@@ -36,6 +36,9 @@ class DeviceLogic {
   // How long `op` takes on this machine once begun, or why it would not do it.
   [[nodiscard]] virtual Result<std::chrono::nanoseconds> duration(const Operation& op) const = 0;
 
+  // Whether a queued job of `op` may come into work now: its box stands at the
+  // machine's station, its way is clear. The first ready job of the queue begins.
+  [[nodiscard]] virtual bool ready(const Operation& /*op*/, const PlcIo& /*io*/) const { return true; }
   // A job comes into work (duration() accepted its operation).
   virtual void begin(const Operation& op) = 0;
   // One poll of the job in work. `go` false: start no new step on the device (Holding,
@@ -72,6 +75,9 @@ std::string describe(line::FaultCode code);
 std::string latched_fault(const PlcIo& io, std::uint16_t fault_input, std::uint16_t fault_code_register);
 // "<what>: <fault> (PLC fault <n>)" as a stop reason with the PLC's code as its id.
 StopReason plc_stop_reason(const std::string& what, line::FaultCode code);
+// The operation's "box" is the one a tag reader (the input register `reader`)
+// reads, the same on the last two polls.
+bool box_read(const Operation& op, const PlcIo& io, std::uint16_t reader);
 // An integer parameter of an operation within [lo, hi], or why not.
 Result<std::int64_t> int_param(const Operation& op, std::string_view name, std::int64_t lo, std::int64_t hi);
 

@@ -337,7 +337,7 @@ std::string Gateway::aborted() const {
 
 void Gateway::work(bool go, std::chrono::nanoseconds dt) {
   if (jobs_.current() == nullptr) {
-    if (!go || !jobs_.begin_next()) {
+    if (!go || !jobs_.begin_next([this](const Operation& op) { return logic_->ready(op, *io_); })) {
       return;
     }
     logic_->begin(jobs_.current()->op);

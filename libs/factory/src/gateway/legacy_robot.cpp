@@ -53,7 +53,9 @@ class LegacyRobotLogic final : public DeviceLogic {
     }
     const std::size_t joints = robot_.kind == line::RobotKind::legacy_articulated ? 6 : 4;
     return tag_specs(rc::map(),
-                     {{"box_in_place[k]", stations}, {"joint[j]", std::vector<std::string>(joints), true}},
+                     {{"box_in_place[k]", stations},
+                      {"station_box[k]", stations},
+                      {"joint[j]", std::vector<std::string>(joints), true}},
                      {{"joint[j]", TagType::signed_word},
                       {"tool_x", TagType::signed_word},
                       {"tool_y", TagType::signed_word},
@@ -91,6 +93,11 @@ class LegacyRobotLogic final : public DeviceLogic {
       total += cycle(dispenser->at, place_point(*type, static_cast<int>(*slot + i)));
     }
     return total;
+  }
+
+  // A load begins once its box stands at the robot's station (its tag reader reads it).
+  [[nodiscard]] bool ready(const Operation& op, const PlcIo& io) const override {
+    return box_read(op, io, static_cast<std::uint16_t>(rc::kStationBox + station_index_));
   }
 
   void begin(const Operation& op) override {

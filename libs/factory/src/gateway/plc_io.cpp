@@ -89,6 +89,9 @@ modbus::ClientStatus PlcIo::read() {
       fresh[t] = std::move(*words);
     }
   }
+  // Before the first read there is no poll before: nothing is steady yet.
+  last_input_registers_ = read_once_ ? block(Table::input_registers).values
+                                     : std::vector<std::uint16_t>(block(Table::input_registers).count, 0);
   for (std::size_t t = 0; t < blocks_.size(); ++t) {
     if (blocks_[t].count != 0) {
       blocks_[t].values = std::move(fresh[t]);
@@ -108,6 +111,15 @@ std::uint16_t PlcIo::word(Table table, std::uint16_t address) const {
     return 0;
   }
   return b.values[address - b.start];
+}
+
+std::uint16_t PlcIo::steady_input_register(std::uint16_t address) const {
+  const Block& b = block(Table::input_registers);
+  const std::uint16_t now = word(Table::input_registers, address);
+  if (address < b.start || address >= b.start + b.count || last_input_registers_.size() != b.count) {
+    return 0;
+  }
+  return last_input_registers_[address - b.start] == now ? now : 0;
 }
 
 void PlcIo::store(Table table, std::uint16_t address, std::uint16_t value) {

@@ -61,6 +61,9 @@ class PlcIo {
   [[nodiscard]] std::uint16_t input_register(std::uint16_t address) const {
     return word(modbus::Table::input_registers, address);
   }
+  // An input register that read the same on the last two polls, else 0: a tag
+  // reader's reading, so a box passing by on a running belt is not taken as in place.
+  [[nodiscard]] std::uint16_t steady_input_register(std::uint16_t address) const;
 
   // Writes. After a failed write the others of the same poll are skipped; write_error() says why.
   void write_coil(std::uint16_t address, bool on);
@@ -90,6 +93,7 @@ class PlcIo {
   std::string prefix_;
   std::vector<TagSpec> specs_;
   std::array<Block, 4> blocks_{};
+  std::vector<std::uint16_t> last_input_registers_;  // the poll before, for steady_input_register()
   std::optional<modbus::ClientError> write_error_;
   bool read_once_ = false;
 };

@@ -59,6 +59,15 @@ class TransferLogic final : public DeviceLogic {
            config_.modbus.poll_period;
   }
 
+  // The uploader puts a box only on a free place; the downloader takes off only its job's
+  // box (many boxes share the line: the one at its station may be another order's).
+  [[nodiscard]] bool ready(const Operation& op, const PlcIo& io) const override {
+    if (upload_) {
+      return !io.input(tp::kBoxPresent) && io.input_register(tp::kStationBox) == 0;
+    }
+    return box_read(op, io, tp::kStationBox);
+  }
+
   void begin(const Operation& op) override {
     box_type_ = static_cast<std::uint16_t>(op.param("box_type").value_or(0));
     box_ = static_cast<std::uint16_t>(op.param("box").value_or(0));
@@ -125,7 +134,7 @@ class TransferLogic final : public DeviceLogic {
         r.detail += fmt::format(", {} {}", count, layout_.catalog.candy_types[c].name);
       }
     }
-    if (id != box_) {  // the box standing at the station was another one
+    if (id != box_) {  // the box standing at the station was another one (ready() keeps this from happening)
       r.ok = false;
       r.detail = fmt::format("took box {} off instead of box {} ({})", id, box_, r.detail);
     }

@@ -160,9 +160,10 @@ ControllerStatus SmartRobot::status() const {
   tag("io.gripper", arm_->gripper_on());
   tag("io.part_present", (di & line::kDiPartPresent) != 0);
   tag("io.vacuum_ok", (di & line::kDiVacuumOk) != 0);
-  for (std::size_t k = 0; k < spec_->stations.size(); ++k) {
+  for (std::size_t k = 0; k < spec_->stations.size() && line::kDiBoxInPlace + k < line::kDiBoxId; ++k) {
     tag(fmt::format("io.box_in_place.{}", k), (di & (1U << (line::kDiBoxInPlace + k))) != 0);
   }
+  tag("io.station_box", std::int64_t{line::box_id_of(di)});
   return s;
 }
 
@@ -176,6 +177,7 @@ Clock::time_point SmartRobot::poll(Clock::time_point now) {
   arm_->cycle();
   last_cycle_ = now;
   watch_link();
+  read_tag();
   if (watches_faults(unit_.state()) && arm_->link_up()) {
     watch_faults();
   }
@@ -314,7 +316,7 @@ void SmartRobot::work(bool go) {
     }
   }
   QueuedJob* job = jobs_.current();
-  if (go && box_seen_) {
+  if (go) {
     job->active += seconds(config_.limits.cycle);
     if (job->active > job->estimate + config_.job_timeout) {
       arm_->halt();
@@ -333,12 +335,6 @@ void SmartRobot::work(bool go) {
   if (job->cancel && !arm_->gripper_on()) {  // never with a part on the cup
     return end_job(false, "cancelled");
   }
-  if (!box_seen_) {
-    box_seen_ = (arm_->inputs() & (1U << (line::kDiBoxInPlace + load_->station_index))) != 0;
-    if (!box_seen_) {
-      return;  // the box is on its way
-    }
-  }
   if (leg_ == legs_.size()) {
     return end_job(true, fmt::format("{} {} in slots {}-{} of box {}", load_->count, load_->candy_name,
                                      load_->first_slot, load_->first_slot + load_->count - 1, load_->box));
@@ -346,8 +342,26 @@ void SmartRobot::work(bool go) {
   begin_leg();
 }
 
+void SmartRobot::read_tag() {
+  const std::uint16_t now = arm_->link_up() ? line::box_id_of(arm_->inputs()) : 0;
+  station_box_ = now == tag_last_ ? now : 0;  // a box passing through is not in place
+  tag_last_ = now;
+}
+
+// A load is ready once its box stands at its station.
+bool SmartRobot::box_ready(const Operation& op) const {
+  const auto box = op.param("box");
+  const std::size_t station = static_cast<std::size_t>(op.param("station").value_or(0));
+  if (station == 0) {
+    return box && station_box_ != 0 && *box == station_box_;
+  }
+  // No tag reader at the robot's other stations: their box-in-place input.
+  return line::kDiBoxInPlace + station < line::kDiBoxId &&
+         (arm_->inputs() & (1U << (line::kDiBoxInPlace + station))) != 0;
+}
+
 bool SmartRobot::begin_job() {
-  if (!jobs_.begin_next()) {
+  if (!jobs_.begin_next([this](const Operation& op) { return box_ready(op); })) {
     return false;
   }
   auto job = smart_robot::resolve_load(layout_, *spec_, jobs_.current()->op);
@@ -359,7 +373,6 @@ bool SmartRobot::begin_job() {
   legs_ = smart_robot::load_legs(layout_, *spec_, *load_, config_.pick_place);
   leg_ = 0;
   leg_running_ = false;
-  box_seen_ = false;
   placed_ = 0;
   return true;
 }

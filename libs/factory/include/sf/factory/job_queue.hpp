@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -46,6 +47,10 @@ class JobQueue {
   [[nodiscard]] const QueuedJob* current() const { return current_ ? &*current_ : nullptr; }
   // Moves the next queued job into work; false when there is none.
   bool begin_next();
+  // Moves the first queued job whose operation is `ready` into work (FIFO among the
+  // ready ones); false when none is. Many boxes share the line: a job waits for its
+  // box, and a later job whose box is already at the station need not wait behind it.
+  bool begin_next(const std::function<bool(const Operation&)>& ready);
   // The job in work ends with `ok`, `detail` and its typed results (JobOutcome::results).
   void finish(bool ok, std::string detail, std::map<std::string, double> results = {});
   // Every queued job fails with "<why> before it started" (the one in work

@@ -3,10 +3,13 @@
 // "load" operations into CSP set-points for the arm's servo axes, one per
 // EtherCAT cycle (1 kHz), from the motion planner's blended Cartesian paths.
 //
-// A load (machine.hpp) is: wait for the box in place at the robot's station
-// (DI 2+k), then per candy: over the home point to the dispenser, vacuum on
-// until part-present and vacuum-ok, over home into the slot, vacuum off until
-// the part is gone, retract; home at the end.
+// A load (machine.hpp) begins once its box stands at the robot's station:
+// the first station's tag reader (DI 16–31) reads the job's box on two
+// consecutive cycles (another station: its box-in-place DI 2+k). The first
+// queued job whose box is there begins, so a box that arrives early is served
+// while an earlier job's box is still on its way. Then per candy: over the home point to the dispenser,
+// vacuum on until part-present and vacuum-ok, over home into the slot, vacuum off until the part is gone,
+// retract; home at the end.
 //
 // PackML (OPC 30050): Stopped ─Reset→ Resetting (fault reset, drives enabled,
 // homing) → Idle ─Start→ Execute; jobs run only in Execute. Hold and Suspend
@@ -127,6 +130,9 @@ class SmartRobot final : public MachineController, private UnitWork {
   void wait() override;
   void work(bool go);
   bool begin_job();
+  // The tag reader's reading, kept when two consecutive cycles agree.
+  void read_tag();
+  [[nodiscard]] bool box_ready(const Operation& op) const;
   void begin_leg();
   void follow_leg();
   void end_job(bool ok, std::string detail);
@@ -148,13 +154,14 @@ class SmartRobot final : public MachineController, private UnitWork {
   bool stopped_by_link_ = false;
   ResetStep reset_step_ = ResetStep::enable;
   Clock::time_point last_cycle_{};
+  std::uint16_t tag_last_ = 0;     // the first station's tag reader, last cycle
+  std::uint16_t station_box_ = 0;  // its reading, steady over two cycles (0: none)
 
   // The job in work on the arm.
   std::unique_ptr<smart_robot::LoadJob> load_;
   std::vector<smart_robot::Leg> legs_;
   std::size_t leg_ = 0;
   bool leg_running_ = false;
-  bool box_seen_ = false;
   Clock::time_point leg_started_{};
   int placed_ = 0;
 };

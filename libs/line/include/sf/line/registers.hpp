@@ -93,6 +93,7 @@ inline constexpr std::uint16_t kFaultCode = 1;
 inline constexpr std::uint16_t kJobsDone = 2;
 inline constexpr std::uint16_t kWeight = 3;      // downloader: inspected weight, 0.1 g
 inline constexpr std::uint16_t kCandyTotal = 4;  // downloader: candies counted
+inline constexpr std::uint16_t kStationBox = 5;  // its station's tag reader: box in place, 0 = none
 inline constexpr std::uint16_t kCandyCount =
     kRepeatBase;  // + catalog candy type: counted by the vision check
 std::span<const RegisterEntry> map();
@@ -121,6 +122,8 @@ inline constexpr std::uint16_t kToolX = 8;  // signed mm
 inline constexpr std::uint16_t kToolY = 9;
 inline constexpr std::uint16_t kToolZ = 10;
 inline constexpr std::uint16_t kPhase = 11;  // the job's step, 0 = idle
+inline constexpr std::uint16_t kStationBox =
+    kRepeatBase;  // + station of the robot: box id read by its tag reader, 0 = none
 std::span<const RegisterEntry> map();
 }  // namespace robot_controller
 

@@ -12,7 +12,9 @@
 //   DO 0    vacuum gripper on
 //   DI 0    part present (a candy on the cup)
 //   DI 1    vacuum ok (gripper on and holding)
-//   DI 2+k  box in place at the robot's station k
+//   DI 2+k  box in place at the robot's station k (k < 14)
+//   DI 16–31 the tag reader of the robot's first station, wired in parallel:
+//           the id of the box in place there (bit 16 = LSB), 0 = none
 #pragma once
 
 #include <array>
@@ -28,6 +30,13 @@ inline constexpr std::uint32_t kDoGripper = 1U << 0;
 inline constexpr std::uint32_t kDiPartPresent = 1U << 0;
 inline constexpr std::uint32_t kDiVacuumOk = 1U << 1;
 inline constexpr unsigned kDiBoxInPlace = 2;  // + station
+// The first station's tag reader (RFID on the box carrier): which box stands
+// there, so the controller begins the job of that box and no other.
+inline constexpr unsigned kDiBoxId = 16;
+inline constexpr unsigned kDiBoxIdBits = 16;
+constexpr std::uint16_t box_id_of(std::uint32_t inputs) {
+  return static_cast<std::uint16_t>(inputs >> kDiBoxId);
+}
 inline constexpr unsigned kArmAxes = 4;
 
 // Joint values of the arm ↔ axis positions in counts.

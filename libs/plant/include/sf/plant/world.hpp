@@ -97,6 +97,11 @@ class World {
   [[nodiscard]] bool station_eye(std::size_t b, std::size_t station) const;
   // The box standing at a station (centre within kInPlaceTolerance), if any.
   [[nodiscard]] const Box* box_in_place(std::size_t b, std::size_t station) const;
+  // The station's tag reader (RFID on the box carrier): the id of the box
+  // standing at rest in place there, 0 when none. The reader reads when the
+  // station's in-position check sees a carrier at rest, so a box passing
+  // through on a running belt is not read.
+  [[nodiscard]] std::uint16_t tag_reading(std::size_t b, std::size_t station) const;
 
   // --- boxes ---
   // A new empty box at a station (the uploader's), if the place is free.

@@ -9,10 +9,12 @@ function(sf_module name)
   target_link_libraries(sf_${name} PUBLIC ${M_DEPS} PRIVATE sf_warnings ${M_PRIVATE_DEPS})
 endfunction()
 
-# sf_unit_test(NAME SOURCES ... DEPS ...): a GoogleTest binary whose tests carry
-# the label "unit" so `ctest -L unit` (and the asan preset) runs exactly them.
+# sf_unit_test(NAME SOURCES ... DEPS ... [LABELS ...]): a GoogleTest binary whose tests carry
+# the label "unit" so `ctest -L unit` runs exactly them. Extra labels: "scale" marks runs of
+# thousands of simulated steps that the asan preset leaves out (their code paths run under
+# ASan in the smaller tests of the same module).
 function(sf_unit_test name)
-  cmake_parse_arguments(T "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(T "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   if(NOT SF_BUILD_TESTS)
     return()
   endif()
@@ -20,5 +22,5 @@ function(sf_unit_test name)
   target_link_libraries(${name} PRIVATE ${T_DEPS} sf::core_testing GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
   # SF_SOURCE_DIR: tests that start peers from the repository (node-opcua, Jena) find it there.
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
-                       PROPERTIES LABELS unit ENVIRONMENT "SF_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+                       PROPERTIES LABELS "unit;${T_LABELS}" ENVIRONMENT "SF_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()

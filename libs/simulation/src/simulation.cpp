@@ -174,9 +174,24 @@ struct Simulation::Parts {
     return {};
   }
 
+  // The shift's routine: an operator tops a dispenser up once it is down to a quarter, before
+  // it runs empty (an empty one would stop its robot bidding for that candy until a Reset).
+  void refill() {
+    for (std::size_t d = 0; d < layout.dispensers.size(); ++d) {
+      const int capacity = layout.dispensers[d].capacity;
+      if (plant.world().stock(d) < capacity / 4) {
+        auto lock = plant.lock();
+        plant.world().set_stock(d, capacity);
+      }
+    }
+  }
+
   void step() {
     clock.advance(1ms);
     const auto now = clock.now();
+    if (now.time_since_epoch() % 1s == 0ns) {
+      refill();
+    }
     for (auto& r : robots) {
       (void)r->robot.poll(now);
     }

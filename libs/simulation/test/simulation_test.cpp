@@ -13,36 +13,15 @@
 
 #include "sf/plant/plant.hpp"
 #include "sf/simulation/run.hpp"
+#include "simulation_checks.hpp"
 
 namespace sf::simulation {
 namespace {
 
 using namespace std::chrono_literals;
-
-std::unique_ptr<Simulation> make(SimulationOptions options = {}) {
-  auto sim = Simulation::create(*line::default_layout(), options);
-  EXPECT_TRUE(sim) << sim.error().describe();
-  return sim ? std::move(*sim) : nullptr;
-}
-
-// Candies placed per box, by type, from the plant's own events.
-std::map<plant::BoxId, std::map<std::string, int>> placed(const plant::Plant& plant) {
-  std::map<plant::BoxId, std::map<std::string, int>> out;
-  for (const auto& e : plant.world().events().entries()) {
-    if (e.kind == plant::EventKind::candy_placed) {
-      ++out[e.box][e.candy];
-    }
-  }
-  return out;
-}
-
-void dump_on_failure(const Simulation& sim) {
-  if (::testing::Test::HasFailure() || std::getenv("SF_SIM_LOG") != nullptr) {
-    for (const auto& l : sim.log()) {
-      std::cerr << l.text << "\n";
-    }
-  }
-}
+using testing::dump_on_failure;
+using testing::make;
+using testing::placed;
 
 TEST(Simulation, AnOrderIsUploadedLoadedInspectedAndDone) {
   auto sim = make();
@@ -56,66 +35,6 @@ TEST(Simulation, AnOrderIsUploadedLoadedInspectedAndDone) {
   ASSERT_TRUE(r.inspection);
   EXPECT_EQ(r.inspection->counts, order.counts());
   EXPECT_EQ(placed(sim->plant()).at(r.boxes[0]), order.counts());
-  dump_on_failure(*sim);
-}
-
-// Boxes standing in place at one station at once, the most seen at any station.
-std::size_t most_boxes_at_a_station(const plant::Plant& plant) {
-  std::size_t most = 0;
-  const auto& layout = plant.layout();
-  for (std::size_t b = 0; b < layout.belts.size(); ++b) {
-    for (const auto& station : layout.belts[b].stations) {
-      std::size_t n = 0;
-      for (const auto& box : plant.world().boxes()) {
-        n += box.belt == b && std::abs(box.s - station.at_m) <= plant::kInPlaceTolerance ? 1U : 0U;
-      }
-      most = std::max(most, n);
-    }
-  }
-  return most;
-}
-
-TEST(Simulation, TwoHundredSeededOrdersAreEachMadeOnceWithTheirContent) {
-  auto sim = make();
-  ASSERT_TRUE(sim);
-  RunOptions run;
-  run.orders = 200;
-  run.seed = 42;
-  std::size_t crowded = 0;
-  run.progress_every = 100ms;
-  run.progress = [&](const RunReport&) {
-    crowded = std::max(crowded, most_boxes_at_a_station(sim->plant()));
-  };
-  const RunReport report = run_orders(*sim, run);
-  EXPECT_EQ(report.done, 200U) << report.failed << " failed, " << report.unfinished << " unfinished";
-  EXPECT_FALSE(report.stalled);
-  EXPECT_LE(crowded, 1U) << "two boxes stood at one station";
-
-  // Ground truth: what the plant placed in which box, slot by slot.
-  std::map<plant::BoxId, std::map<std::string, int>> contents;
-  std::set<std::pair<plant::BoxId, int>> slots;
-  for (const auto& e : sim->plant().world().events().entries()) {
-    if (e.kind == plant::EventKind::candy_placed) {
-      ++contents[e.box][e.candy];
-      EXPECT_TRUE(slots.insert({e.box, e.slot}).second)
-          << "box " << e.box << " slot " << e.slot << " loaded twice";
-    }
-  }
-  std::set<std::uint16_t> final_boxes;
-  for (const auto& [id, r] : sim->host().records()) {
-    ASSERT_EQ(r.state, factory::OrderState::done) << id << ": " << r.failure;
-    ASSERT_FALSE(r.boxes.empty()) << id;
-    const std::uint16_t box = r.boxes.back();
-    EXPECT_TRUE(final_boxes.insert(box).second) << "box " << box << " delivered for two orders";
-    EXPECT_EQ(contents[box], r.order.counts()) << id << " in box " << box;
-    ASSERT_TRUE(r.inspection) << id;
-    EXPECT_EQ(r.inspection->counts, r.order.counts()) << id;
-  }
-  // Every box that came onto the line left it through the downloader; none fell off.
-  const auto& counters = sim->plant().world().counters();
-  EXPECT_EQ(counters.uploaded, counters.downloaded);
-  EXPECT_EQ(counters.boxes_lost, 0U);
-  EXPECT_EQ(counters.dropped, 0U);
   dump_on_failure(*sim);
 }
 

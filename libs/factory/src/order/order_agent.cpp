@@ -9,6 +9,24 @@ namespace sf::factory {
 
 namespace cnp = sf::negotiation;
 
+bool BeltBlocks::reserve(const std::string& belt, const std::string& holder) {
+  return held_.try_emplace(belt, holder).first->second == holder;
+}
+
+void BeltBlocks::release(const std::string& belt, const std::string& holder) {
+  if (auto it = held_.find(belt); it != held_.end() && it->second == holder) {
+    held_.erase(it);
+  }
+}
+
+void BeltBlocks::release_all(const std::string& holder) {
+  std::erase_if(held_, [&](const auto& h) { return h.second == holder; });
+}
+
+std::string belt_of(const std::string& place) {
+  return place.substr(0, place.find('/'));
+}
+
 std::shared_ptr<OrderAgent> OrderAgent::create(Order order, std::string product,
                                                const ProductContext& context, OrderAgentOptions options,
                                                OrderEventSink sink) {
@@ -56,6 +74,12 @@ Status OrderAgent::start() {
 }
 
 void OrderAgent::tick() {
+  if (!finished_ && !waiting_for_.empty() && context_.belts->reserve(waiting_for_, product_)) {
+    waiting_for_.clear();
+    auto then = std::move(on_belt_);
+    on_belt_ = nullptr;
+    then();
+  }
   if (finished_ || !retry_at_ || clock_->now() < *retry_at_) {
     return;
   }
@@ -65,8 +89,21 @@ void OrderAgent::tick() {
   again();
 }
 
+void OrderAgent::with_belt(const std::string& belt, std::function<void()> then) {
+  if (context_.belts == nullptr || context_.belts->reserve(belt, product_)) {
+    return then();
+  }
+  waiting_for_ = belt;
+  on_belt_ = std::move(then);
+}
+
 void OrderAgent::begin_step() {
   const StepOp& op = steps_[step_];
+  // The uploader puts the box on its belt: the belt must be this box's first.
+  if (op.type == kUpload && context_.belts != nullptr &&
+      !context_.belts->reserve(belt_of(layout_->uploader.station), product_)) {
+    return with_belt(belt_of(layout_->uploader.station), [this] { begin_step(); });
+  }
   machine_.clear();
   target_.clear();
   std::vector<cnp::Param> params = op.params;
@@ -162,12 +199,19 @@ void OrderAgent::next_transport() {
     return;
   }
   const Hop hop = hops_.front();
+  if (belt_of(hop.to) != belt_of(location_) && context_.belts != nullptr &&
+      !context_.belts->reserve(belt_of(hop.to), product_)) {
+    return with_belt(belt_of(hop.to), [this] { next_transport(); });
+  }
   std::vector<cnp::Param> params{{"box", static_cast<double>(box_)},
                                  {"from", static_cast<double>(*place_index(*layout_, hop.from))},
                                  {"to", static_cast<double>(*place_index(*layout_, hop.to))}};
   cnp::ConversationEvents events{
       {},
       guarded([hop](OrderAgent& a, const cnp::Conversation& c) {
+        if (a.context_.belts != nullptr && belt_of(hop.to) != belt_of(hop.from)) {
+          a.context_.belts->release(belt_of(hop.from), a.product_);
+        }
         a.location_ = hop.to;
         a.hops_.erase(a.hops_.begin());
         a.emit("transported", c.contractor, fmt::format("box {} {} → {}", a.box_, hop.from, hop.to));
@@ -220,6 +264,9 @@ void OrderAgent::finish(std::string failure) {
   failure_ = std::move(failure);
   emit(failure_.empty() ? "done" : "failed", machine_, failure_);
   finished_ = true;
+  if (context_.belts != nullptr) {
+    context_.belts->release_all(product_);
+  }
 }
 
 void OrderAgent::emit(std::string what, std::string machine, std::string detail) {

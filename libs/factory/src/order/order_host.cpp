@@ -54,7 +54,11 @@ OrderHost::OrderHost(const ProductContext& context, OrderHostOptions options, Or
     : context_(context),
       options_(options),
       sink_(std::move(sink)),
-      wip_(options.wip == 0 ? safe_wip(*context.layout) : options.wip) {}
+      wip_(options.wip == 0 ? safe_wip(*context.layout) : options.wip) {
+  if (context_.belts == nullptr) {
+    context_.belts = &belts_;
+  }
+}
 
 Status OrderHost::submit(Order order) {
   if (order.id.empty()) {

@@ -8,7 +8,8 @@
 //   2. only then negotiate the route from where the box is to that machine's
 //      station in the ConveyingDomain, and award each conveyor of the route
 //      its hop ("transport", one conveyor after the other), so a box never
-//      waits for a machine that has not confirmed;
+//      waits for a machine that has not confirmed; a hop onto the next belt
+//      waits until that belt is the box's (BeltBlocks);
 //   3. the machine begins the job when its tag reader reads the box in place,
 //      and its INFORM-DONE ends the step.
 //
@@ -68,6 +69,27 @@ struct BoxInspection {
 
 using OrderEventSink = std::function<void(const OrderEvent&)>;
 
+// Block control over the belts (as accumulating conveyors and railways do
+// it): a box enters a belt only while no other box of the host is on it. A
+// conveyor's stoppers hold a box only at stations, so a second box waiting at
+// a belt's entry would roll on with the first one's transport and stop at some
+// other station; with one box per belt every box is where its product thinks.
+// (Boxes of the host only: one order service per line.)
+class BeltBlocks {
+ public:
+  // True when the belt is free or already `holder`'s; it is then `holder`'s.
+  bool reserve(const std::string& belt, const std::string& holder);
+  void release(const std::string& belt, const std::string& holder);
+  void release_all(const std::string& holder);
+  [[nodiscard]] std::size_t held() const { return held_.size(); }
+
+ private:
+  std::map<std::string, std::string> held_;  // belt → holder
+};
+
+// The belt of a place ("conveyor2/scara1" or the entry "conveyor2").
+std::string belt_of(const std::string& place);
+
 // What the products of one host run on: the line's layout (stations, places,
 // catalog), the host's Contract Net manager and route planner, its clock.
 struct ProductContext {
@@ -75,6 +97,7 @@ struct ProductContext {
   negotiation::Manager* manager = nullptr;
   negotiation::RoutePlanner* planner = nullptr;
   const Clock* clock = nullptr;
+  BeltBlocks* belts = nullptr;
 };
 
 class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
@@ -119,6 +142,8 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   void on_route(const Result<negotiation::Route>& route);
   void next_transport();
   void retry(std::string why, std::function<void()> again);
+  // Runs `then` once `belt` is this product's (at once, or from tick()).
+  void with_belt(const std::string& belt, std::function<void()> then);
   void give_up(std::string failure);
   void finish(std::string failure);
   void emit(std::string what, std::string machine, std::string detail);
@@ -148,6 +173,8 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   std::optional<BoxInspection> inspection_;
   std::optional<Clock::time_point> retry_at_;
   std::function<void()> retry_;
+  std::string waiting_for_;  // a belt
+  std::function<void()> on_belt_;
   bool finished_ = false;
   std::string failure_;
   std::string rejected_;  // why the box is on its way out as a reject

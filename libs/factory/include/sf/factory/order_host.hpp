@@ -7,7 +7,8 @@
 // Net manager and one route planner (one endpoint per domain for the host);
 // each product is its own party in them (its name in every conversation).
 //
-// `wip` bounds the boxes on the line so that the belts cannot fill up: with
+// The host keeps the belt blocks of its products (BeltBlocks) unless the
+// context brings its own. `wip` bounds the boxes on the line so that the belts cannot fill up: with
 // fewer boxes than the shortest cycle of belts has belts, boxes waiting for
 // one another cannot close a circle.
 #pragma once
@@ -67,6 +68,7 @@ class OrderHost {
   void settle(const OrderAgent& agent);
   void emit(const std::string& order, std::string what, std::string detail);
 
+  BeltBlocks belts_;
   ProductContext context_;
   OrderHostOptions options_;
   OrderEventSink sink_;

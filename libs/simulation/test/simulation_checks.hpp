@@ -1,0 +1,61 @@
+// What the simulation's tests check runs with: a simulation of the default
+// line, the plant's ground truth (candies placed per box), boxes crowding a
+// station, and the run's log printed when a test failed (or SF_SIM_LOG is set).
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "sf/plant/plant.hpp"
+#include "sf/simulation/simulation.hpp"
+
+namespace sf::simulation::testing {
+
+inline std::unique_ptr<Simulation> make(SimulationOptions options = {}) {
+  auto sim = Simulation::create(*line::default_layout(), options);
+  EXPECT_TRUE(sim) << sim.error().describe();
+  return sim ? std::move(*sim) : nullptr;
+}
+
+// Candies placed per box, by type, from the plant's own events.
+inline std::map<plant::BoxId, std::map<std::string, int>> placed(const plant::Plant& plant) {
+  std::map<plant::BoxId, std::map<std::string, int>> out;
+  for (const auto& e : plant.world().events().entries()) {
+    if (e.kind == plant::EventKind::candy_placed) {
+      ++out[e.box][e.candy];
+    }
+  }
+  return out;
+}
+
+inline void dump_on_failure(const Simulation& sim) {
+  if (::testing::Test::HasFailure() || std::getenv("SF_SIM_LOG") != nullptr) {
+    for (const auto& l : sim.log()) {
+      std::cerr << l.text << "\n";
+    }
+  }
+}
+
+// Boxes standing in place at one station at once, the most seen at any station.
+inline std::size_t most_boxes_at_a_station(const plant::Plant& plant) {
+  std::size_t most = 0;
+  const auto& layout = plant.layout();
+  for (std::size_t b = 0; b < layout.belts.size(); ++b) {
+    for (const auto& station : layout.belts[b].stations) {
+      std::size_t n = 0;
+      for (const auto& box : plant.world().boxes()) {
+        n += box.belt == b && std::abs(box.s - station.at_m) <= plant::kInPlaceTolerance ? 1U : 0U;
+      }
+      most = std::max(most, n);
+    }
+  }
+  return most;
+}
+
+}  // namespace sf::simulation::testing

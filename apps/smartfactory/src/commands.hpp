@@ -51,6 +51,9 @@ void register_history(CLI::App& app, CommandResult& result);
 // `gateway --config FILE` (factory module): a legacy machine's gateway.
 void register_gateway(CLI::App& app, CommandResult& result);
 
+// `orders --config FILE` and `order ...` (factory module): the order service and its client.
+void register_orders(CLI::App& app, CommandResult& result);
+
 // `simulate` (simulation module): the factory in its deterministic mode.
 void register_simulate(CLI::App& app, CommandResult& result);
 

@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_FACTORY
   sf::app::register_machine(app, result);
   sf::app::register_gateway(app, result);
+#ifdef SF_HAVE_OPCUA
+  sf::app::register_orders(app, result);
+#endif
 #endif
 #ifdef SF_HAVE_SIMULATION
   sf::app::register_simulate(app, result);

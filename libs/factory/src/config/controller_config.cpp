@@ -87,11 +87,14 @@ Status read_duration(const Node& n, std::string_view key, double unit_ms, std::c
 }
 
 Status parse_controller_settings(const Node& root, ControllerSettings& s, const std::filesystem::path& base) {
-  auto machine = root.get<std::string>("machine");
-  if (!machine) {
-    return machine.error();
+  // A controller stands for a machine of the layout; the order service names itself.
+  if (s.machine.empty()) {
+    auto machine = root.get<std::string>("machine");
+    if (!machine) {
+      return machine.error();
+    }
+    s.machine = *machine;
   }
-  s.machine = *machine;
   std::string layout;
   SF_TRY(root.read("layout", layout));
   s.layout_file = layout;

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "opcua/model_layout.hpp"
+#include "opcua/model_nodes.hpp"
 #include "sf/core/log.hpp"
 #include "sf/line/ontology.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -17,10 +18,6 @@ using ua::NodeId;
 using ua::QualifiedName;
 
 namespace {
-
-NodeId ns0(std::uint32_t id) {
-  return NodeId(0, id);
-}
 
 std::string_view parent_path(std::string_view path) {
   const auto dot = path.rfind('.');
@@ -114,20 +111,6 @@ Result<NodeId> machine_object(srv::AddressSpace& space, std::uint16_t ns, const 
   spec.type_definition = type != nullptr ? type->node_id : ns0(ua::id::BaseObjectType);
   spec.instantiate_mandatory = false;
   return space.add_object(spec);
-}
-
-// A variable of the model: a data variable (HasComponent) or a property (HasProperty).
-srv::VariableSpec variable_spec(const NodeId& id, QualifiedName browse_name, const NodeId& parent,
-                                std::uint32_t data_type, bool property) {
-  srv::VariableSpec spec;
-  spec.node_id = id;
-  spec.browse_name = std::move(browse_name);
-  spec.parent = parent;
-  spec.reference_type = ns0(property ? ua::id::HasProperty : ua::id::HasComponent);
-  spec.type_definition = ns0(property ? ua::id::PropertyType : ua::id::BaseDataVariableType);
-  spec.data_type = ns0(data_type);
-  spec.instantiate_mandatory = false;
-  return spec;
 }
 
 // OPC 40001-1 §8.4 (MachineIdentificationType with the IMachineVendorNameplateType and

@@ -63,7 +63,8 @@ struct ControllerSettings {
 negotiation::DdsSettings dds_settings(const DdsOptions& options);
 
 // Reads the common keys of `root` (a mapping already checked for unknown keys); relative file
-// names are taken from `base` (the file's folder).
+// names are taken from `base` (the file's folder). `machine` is required unless settings.machine
+// is set before (a process that is not a machine's controller names itself).
 Status parse_controller_settings(const config::Node& root, ControllerSettings& settings,
                                  const std::filesystem::path& base = {});
 // The layout the settings name, relative to `base`; errors point at the `layout` key.

@@ -1,0 +1,128 @@
+// OrderModel (order_service.hpp): the order service's counters, its latest event and the
+// SubmitOrder method on its OPC UA server.
+#include <array>
+
+#include <fmt/format.h>
+
+#include "opcua/model_nodes.hpp"
+#include "sf/factory/order_service.hpp"
+#include "sf/opcua/node_ids.hpp"
+#include "sf/opcua/server/server.hpp"
+#include "sf/opcua/status_codes.hpp"
+
+namespace sf::factory {
+
+namespace ua = sf::opcua;
+namespace srv = sf::opcua::server;
+
+namespace {
+
+constexpr std::string_view kNamespace = "urn:smartfactory:orders";
+constexpr std::array<std::string_view, 5> kCounters{"Queued", "InWork", "Done", "Failed", "Remade"};
+
+ua::NodeId node(std::uint16_t ns, std::string_view path) {
+  return {ns, ua::String(fmt::format("OrderService{}{}", path.empty() ? "" : ".", path))};
+}
+
+ua::Argument argument(std::string_view name, std::uint32_t type, bool array, std::string_view description) {
+  ua::Argument a;
+  a.name = std::string(name);
+  a.data_type = ns0(type);
+  a.value_rank = array ? srv::value_rank::OneDimension : srv::value_rank::Scalar;
+  a.description = ua::LocalizedText("en", std::string(description));
+  return a;
+}
+
+// SubmitOrder's inputs as an Order, or why they are not one.
+Result<Order> order_of(const std::vector<ua::Variant>& in) {
+  const auto* id = in.at(0).get_if<ua::String>();
+  const auto* box = in.at(1).get_if<ua::String>();
+  const auto* candy = in.at(2).array_if<ua::String>();
+  if (id == nullptr || box == nullptr || candy == nullptr) {
+    return make_error(Errc::invalid_argument, "SubmitOrder(Id: String, BoxType: String, Candy: String[])");
+  }
+  Order o{id->str(), box->str(), {}};
+  for (const auto& c : *candy) {
+    auto line = parse_order_line(c.view());
+    if (!line) {
+      return line.error();
+    }
+    o.lines.push_back(std::move(*line));
+  }
+  return o;
+}
+
+Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agent) {
+  srv::ObjectSpec object;
+  object.node_id = node(ns, "");
+  object.browse_name = ua::QualifiedName(ns, "OrderService");
+  object.parent = ns0(ua::id::ObjectsFolder);
+  object.reference_type = ns0(ua::id::Organizes);
+  object.type_definition = ns0(ua::id::BaseObjectType);
+  SF_TRY(space.add_object(object));
+  for (std::string_view name : kCounters) {
+    auto spec = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
+                              ua::id::UInt32, false);
+    spec.value = ua::DataValue(ua::Variant(std::uint32_t{0}));
+    SF_TRY(space.add_variable(spec));
+  }
+  auto last = variable_spec(node(ns, "LastEvent"), ua::QualifiedName(ns, "LastEvent"), node(ns, ""),
+                            ua::id::String, false);
+  last.value = ua::DataValue(ua::Variant(std::string()));
+  SF_TRY(space.add_variable(last));
+
+  srv::MethodSpec submit;
+  submit.node_id = node(ns, "SubmitOrder");
+  submit.browse_name = ua::QualifiedName(ns, "SubmitOrder");
+  submit.parent = node(ns, "");
+  submit.input_arguments = {argument("Id", ua::id::String, false, "the order's id, unique"),
+                            argument("BoxType", ua::id::String, false, "a box type of the catalog"),
+                            argument("Candy", ua::id::String, true, "candy type:quantity, e.g. gummy:4")};
+  submit.output_arguments = {argument("OrderId", ua::id::String, false, "the accepted order's id")};
+  submit.callback = [&agent](const ua::NodeId&, const std::vector<ua::Variant>& in,
+                             std::vector<ua::Variant>& out) {
+    auto order = order_of(in);
+    if (!order) {
+      return ua::StatusCode(ua::status::BadInvalidArgument);
+    }
+    const std::string id = order->id;
+    if (auto accepted = agent.submit(std::move(*order)); !accepted) {
+      return ua::StatusCode(ua::status::BadInvalidArgument);
+    }
+    out.emplace_back(id);
+    return ua::StatusCode{};
+  };
+  SF_TRY(space.add_method(submit));
+  return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<OrderModel>> OrderModel::attach(srv::Server& server, OrderServiceAgent& agent) {
+  auto m = std::unique_ptr<OrderModel>(new OrderModel());
+  m->server_ = &server;
+  m->agent_ = &agent;
+  Status built;
+  server.with_address_space([&](srv::AddressSpace& space) {
+    m->ns_ = space.add_namespace(kNamespace);
+    built = build(space, m->ns_, agent);
+  });
+  if (!built) {
+    return built.error();
+  }
+  return m;
+}
+
+void OrderModel::update() {
+  const OrderServiceStatus s = agent_->status();
+  const std::array<std::uint64_t, kCounters.size()> values{s.queued, s.in_work, s.done, s.failed, s.remade};
+  server_->with_address_space([&](srv::AddressSpace& space) {
+    for (std::size_t i = 0; i < kCounters.size(); ++i) {
+      (void)space.set_value(node(ns_, kCounters[i]),
+                            ua::DataValue(ua::Variant(static_cast<std::uint32_t>(values[i]))));
+    }
+    (void)space.set_value(node(ns_, "LastEvent"), ua::DataValue(ua::Variant(s.last_event)));
+  });
+}
+
+}  // namespace sf::factory

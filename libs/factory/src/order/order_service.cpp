@@ -1,0 +1,97 @@
+#include "sf/factory/order_service.hpp"
+
+#include <fmt/format.h>
+
+#include "sf/factory/machine.hpp"
+
+namespace sf::factory {
+
+namespace cnp = sf::negotiation;
+
+Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
+    const cnp::DdsSettings& settings, const line::Layout& layout, OrderHostOptions options,
+    dds::Executor& executor, const Clock& clock, OrderEventSink on_event) {
+  const std::vector<std::string> operations{std::string(kUpload), std::string(kLoad), std::string(kDownload),
+                                            std::string(kTransport)};
+  auto endpoints = cnp::ProductEndpoints::create(settings, "order-service", operations, executor, clock);
+  if (!endpoints) {
+    return endpoints.error();
+  }
+  auto a = std::unique_ptr<OrderServiceAgent>(new OrderServiceAgent(layout, clock));
+  a->endpoints_ = std::move(*endpoints);
+  a->manager_ = std::make_unique<cnp::Manager>(*a->endpoints_, clock);
+  a->planner_ = std::make_unique<cnp::RoutePlanner>(*a->endpoints_, clock);
+  a->endpoints_->bind(static_cast<cnp::ManagerInbox&>(*a->manager_));
+  a->endpoints_->bind(static_cast<cnp::RouteInbox&>(*a->planner_));
+  a->on_event_ = std::move(on_event);
+  a->started_at_ = clock.now();
+  auto* self = a.get();
+  a->host_ = std::make_unique<OrderHost>(
+      ProductContext{&layout, a->manager_.get(), a->planner_.get(), &clock}, options,
+      [self](const OrderEvent& e) {
+        {
+          std::lock_guard lock(self->mutex_);
+          self->status_.last_event = fmt::format(
+              "{:.3f} {} {} {} {}", std::chrono::duration<double>(e.at - self->started_at_).count(), e.order,
+              e.what, e.machine, e.detail);
+        }
+        if (self->on_event_) {
+          self->on_event_(e);
+        }
+      });
+  return a;
+}
+
+OrderServiceAgent::~OrderServiceAgent() = default;
+
+Status OrderServiceAgent::submit(Order order) {
+  if (auto valid = validate(order, layout_->catalog); !valid) {
+    return make_error(Errc::invalid_argument, fmt::format("order '{}': {}", order.id, valid.error().message));
+  }
+  std::lock_guard lock(mutex_);
+  if (!ids_.insert(order.id).second) {
+    return make_error(Errc::invalid_argument, fmt::format("order '{}' was accepted before", order.id));
+  }
+  inbox_.push_back(std::move(order));
+  return {};
+}
+
+void OrderServiceAgent::tick() {
+  std::deque<Order> arrived;
+  {
+    std::lock_guard lock(mutex_);
+    arrived.swap(inbox_);
+  }
+  for (auto& o : arrived) {
+    (void)host_->submit(std::move(o));  // checked in submit(); ids are unique there
+  }
+  manager_->tick();
+  planner_->tick();
+  host_->tick();
+  endpoints_->flush_ended();
+  publish();
+}
+
+std::optional<Clock::time_point> OrderServiceAgent::next_deadline() const {
+  // The products' retries and belt waits are checked every few milliseconds; orders handed in
+  // from other threads are picked up as soon.
+  const auto soon = clock_->now() + std::chrono::milliseconds{10};
+  return sf::earliest(soon, sf::earliest(manager_->next_deadline(),
+                                         sf::earliest(planner_->next_deadline(), endpoints_->ends_due())));
+}
+
+void OrderServiceAgent::publish() {
+  std::lock_guard lock(mutex_);
+  status_.queued = host_->count(OrderState::queued);
+  status_.in_work = host_->count(OrderState::in_work);
+  status_.done = host_->count(OrderState::done);
+  status_.failed = host_->count(OrderState::failed);
+  status_.remade = host_->remade();
+}
+
+OrderServiceStatus OrderServiceAgent::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+}  // namespace sf::factory

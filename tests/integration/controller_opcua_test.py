@@ -22,15 +22,17 @@ from sftest import Background, binary, check, wait_for, wait_for_line
 # serial number, DeviceClass, tags that must read Good with their DataType).
 CONTROLLERS = (
     ("machine", "scara-robot-1", None, "ScaraRobot1", "SR1-0001", "smart-robot",
-     {"axis1.position": "Double", "axis4.statusword": "Int64", "io.vacuum_ok": "Boolean", "tool.z": "Double"}),
+     {"axis1.position": "Double", "axis4.statusword": "Int64", "io.vacuum_ok": "Boolean", "tool.z": "Double",
+      "io.station_box": "Int64"}),
     ("gateway", "conveyor1", "conveyor", "Conveyor1", "S7-1200-C1", "conveyor",
      {"plc.motor_run": "Boolean", "plc.exit_eye": "Boolean", "plc.speed": "Int64", "plc.fault_code": "Int64"}),
     ("gateway", "uploader", "uploader", "Uploader", "FX5U-UP", "uploader",
-     {"plc.box_type": "Int64", "plc.fault_code": "Int64"}),
+     {"plc.box_type": "Int64", "plc.fault_code": "Int64", "plc.station_box": "Int64"}),
     ("gateway", "downloader", "downloader", "Downloader", "FX5U-DOWN", "downloader",
-     {"plc.weight": "Double", "plc.candy_total": "Int64"}),
+     {"plc.weight": "Double", "plc.candy_total": "Int64", "plc.station_box": "Int64"}),
     ("gateway", "toshiba", "legacy-robot", "Toshiba", "THL300-0042", "legacy-robot",
-     {"robot.joint1": "Int64", "robot.tool_z": "Int64", "robot.fault_code": "Int64"}),
+     {"robot.joint1": "Int64", "robot.tool_z": "Int64", "robot.fault_code": "Int64",
+      "robot.station_box.toshiba": "Int64"}),
 )
 
 

@@ -193,8 +193,11 @@ int run_order(const OrderOptions& o) {
                                   ua::NodeId(*ns, ua::String("OrderService.SubmitOrder")),
                                   {ua::Variant(order.id), ua::Variant(order.box_type), ua::Variant(candy)});
     if (!out) {
-      std::cerr << fmt::format("order {}: refused by the service: {}\n", order.id, out.error().message);
-      rc = kExitFailure;
+      // BadInvalidArgument: the service refused the order itself (an id it accepted before).
+      const bool refused = out.error().message.find("BadInvalidArgument") != std::string::npos;
+      std::cerr << fmt::format("order {}: refused by the service{}: {}\n", order.id,
+                               refused ? " (is its id taken?)" : "", out.error().message);
+      rc = refused ? kExitUsage : kExitFailure;
       continue;
     }
     std::cout << fmt::format("order {} accepted: {} with {} candies\n", order.id, order.box_type,

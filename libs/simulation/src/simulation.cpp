@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -193,20 +194,28 @@ struct Simulation::Parts {
       refill();
     }
     for (auto& r : robots) {
-      (void)r->robot.poll(now);
+      if (!dead.contains(r->robot.identification().name)) {
+        (void)r->robot.poll(now);
+      }
     }
     plant.advance_to(now);
     for (auto& g : gateways) {
-      (void)g.gateway->poll(now);
+      if (!dead.contains(g.gateway->config().controller.machine)) {
+        (void)g.gateway->poll(now);
+      }
     }
     net.deliver();
     manager.tick();
     planner.tick();
     for (auto& r : robots) {
-      r->contractor->tick();
+      if (!dead.contains(r->robot.identification().name)) {
+        r->contractor->tick();
+      }
     }
     for (auto& g : gateways) {
-      g.roles->contractor().tick();
+      if (!dead.contains(g.gateway->config().controller.machine)) {
+        g.roles->contractor().tick();
+      }
     }
     host.tick();
   }
@@ -222,6 +231,7 @@ struct Simulation::Parts {
   std::vector<factory::OrderEvent> events;
   factory::OrderHost host;
   Clock::time_point start;
+  std::set<std::string> dead;  // controllers whose process was killed
   std::vector<std::unique_ptr<SmartRobotNode>> robots;
   std::vector<GatewayNode> gateways;
 };
@@ -268,6 +278,36 @@ const plant::Plant& Simulation::plant() const {
 const std::vector<factory::OrderEvent>& Simulation::order_events() const {
   return parts_->events;
 }
+Status Simulation::kill(const std::string& machine) {
+  const bool known = std::any_of(parts_->robots.begin(), parts_->robots.end(),
+                                 [&](const auto& r) { return r->robot.identification().name == machine; }) ||
+                     std::any_of(parts_->gateways.begin(), parts_->gateways.end(), [&](const GatewayNode& g) {
+                       return g.gateway->config().controller.machine == machine;
+                     });
+  if (!known) {
+    return make_error(Errc::not_found, fmt::format("no controller '{}'", machine));
+  }
+  parts_->dead.insert(machine);
+  parts_->net.kill(machine);
+  return {};
+}
+
+Status Simulation::inject(std::string_view fault) {
+  auto spec = plant::parse_fault(fault);
+  if (!spec) {
+    return spec.error();
+  }
+  return parts_->plant.inject(*spec);
+}
+
+Status Simulation::clear(std::string_view fault) {
+  auto spec = plant::parse_fault(fault);
+  if (!spec) {
+    return spec.error();
+  }
+  return parts_->plant.clear(*spec);
+}
+
 std::uint64_t Simulation::messages() const {
   return parts_->net.stats().sent;
 }

@@ -38,6 +38,61 @@ TEST(Simulation, AnOrderIsUploadedLoadedInspectedAndDone) {
   dump_on_failure(*sim);
 }
 
+// Every order of the host done, its last box holding what it asked for (the plant's ground truth).
+void expect_all_done_with_their_content(const Simulation& sim) {
+  const auto contents = placed(sim.plant());
+  for (const auto& [id, r] : sim.host().records()) {
+    EXPECT_EQ(r.state, factory::OrderState::done) << id << ": " << r.failure;
+    ASSERT_FALSE(r.boxes.empty()) << id;
+    const auto it = contents.find(r.boxes.back());
+    EXPECT_TRUE(it != contents.end() && it->second == r.order.counts()) << id << " in box " << r.boxes.back();
+  }
+}
+
+bool placed_by(const Simulation& sim, std::string_view robot) {
+  for (const auto& e : sim.plant().world().events().entries()) {
+    if (e.kind == plant::EventKind::candy_placed && e.where == robot) {
+      return true;
+    }
+  }
+  return false;
+}
+
+TEST(SimulationFaults, ASmartRobotKilledMidLoadIsReplacedAndItsBoxFinishedOrMadeAgain) {
+  auto sim = make();
+  ASSERT_TRUE(sim);
+  // Chocolate and gummy: SCARA Robot 1 has both; DENSO (chocolate) and TOSHIBA (gummy) too.
+  ASSERT_TRUE(sim->submit({"a", "small-box", {{"chocolate", 4}, {"gummy", 3}}}));
+  ASSERT_TRUE(sim->submit({"b", "small-box", {{"gummy", 4}}}));
+  ASSERT_TRUE(sim->run_until([&] { return placed_by(*sim, "scara-robot-1"); }, 600s));
+  ASSERT_TRUE(sim->kill("scara-robot-1"));
+  EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 3600s));
+  expect_all_done_with_their_content(*sim);
+  bool renegotiated = false;
+  for (const auto& e : sim->order_events()) {
+    renegotiated = renegotiated || (e.what == "awarded" && e.machine != "scara-robot-1" &&
+                                    e.detail.starts_with("load") && e.at > sim->now() - 3600s);
+  }
+  EXPECT_TRUE(renegotiated);
+  EXPECT_FALSE(sim->kill("no-such-machine"));
+  dump_on_failure(*sim);
+}
+
+TEST(SimulationFaults, APlcUnreachableIsWaitedForAndTheLineGoesOnWhenItReturns) {
+  auto sim = make();
+  ASSERT_TRUE(sim);
+  // Toffee only at the TOSHIBA, on conveyor 3: its conveyor's PLC away for a minute.
+  ASSERT_TRUE(sim->submit({"a", "small-box", {{"toffee", 2}}}));
+  ASSERT_TRUE(sim->submit({"b", "small-box", {{"chocolate", 2}}}));
+  ASSERT_TRUE(sim->inject("plc-unreachable:conveyor3"));
+  sim->run_until([] { return false; }, 60s);
+  EXPECT_EQ(sim->host().records().at("a").state, factory::OrderState::in_work);
+  ASSERT_TRUE(sim->clear("plc-unreachable:conveyor3"));
+  EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 3600s));
+  expect_all_done_with_their_content(*sim);
+  dump_on_failure(*sim);
+}
+
 TEST(Simulation, TheSameSeedGivesTheSameRunLineForLine) {
   SimulationOptions options;
   options.seed = 9;

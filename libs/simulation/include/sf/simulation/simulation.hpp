@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sf/core/clock.hpp"
@@ -58,6 +59,14 @@ class Simulation {
   void step();
   // Steps until `done` or `limit` of simulated time has passed; whether `done` came true.
   bool run_until(const std::function<bool()>& done, std::chrono::nanoseconds limit);
+
+  // A controller's process dies (kill -9): it is polled no more (a smart robot's master stops
+  // cycling, so its slave leaves OP by its watchdog; a gateway stops polling its PLC) and its
+  // Contract Net traffic stops (the products see its liveliness lost after the lease).
+  Status kill(const std::string& machine);
+  // A plant fault as `plant faults` names them, e.g. "jam:conveyor2" (plant/faults.hpp).
+  Status inject(std::string_view fault);
+  Status clear(std::string_view fault);
 
   [[nodiscard]] Clock::time_point now() const;
   [[nodiscard]] const factory::OrderHost& host() const;

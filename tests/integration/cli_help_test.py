@@ -6,7 +6,8 @@ from sftest import binary, check, run
 
 # Groups the CLI may show and the module each needs. A group must be listed
 # exactly when its module is built into the binary.
-KNOWN = ["ecat", "opcua", "agent", "cnp", "kb", "cloud", "history", "plant", "demo", "gateway", "machine"]
+KNOWN = ["ecat", "opcua", "agent", "cnp", "kb", "cloud", "history", "plant", "demo", "gateway", "machine",
+         "orders", "order", "simulate", "line"]
 
 def subcommands(help_text):
     """The names in the Subcommands: section (it ends at the first blank line)."""

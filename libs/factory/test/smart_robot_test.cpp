@@ -305,7 +305,8 @@ TEST_F(SmartRobotTest, TheJobWhoseBoxArrivesFirstRunsFirstAndTheOtherWaitsForIts
   EXPECT_EQ(outcomes_[1].job, "for-b1");
   EXPECT_TRUE(outcomes_[1].ok) << outcomes_[1].detail;
   EXPECT_EQ(rig_.world().box(b1)->slots[0], candy("gummy"));
-  const Tag* reader = tag(robot_.status(), "io.station_box");
+  const ControllerStatus status = robot_.status();
+  const Tag* reader = tag(status, "io.station_box");
   ASSERT_NE(reader, nullptr);
   EXPECT_EQ(std::get<std::int64_t>(reader->value), b1);
 }

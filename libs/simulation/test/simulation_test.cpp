@@ -93,29 +93,6 @@ TEST(SimulationFaults, APlcUnreachableIsWaitedForAndTheLineGoesOnWhenItReturns) 
   dump_on_failure(*sim);
 }
 
-TEST(Simulation, TheSameSeedGivesTheSameRunLineForLine) {
-  SimulationOptions options;
-  options.seed = 9;
-  auto first = make(options);
-  auto second = make(options);
-  ASSERT_TRUE(first && second);
-  RunOptions run;
-  run.orders = 12;
-  run.seed = 9;
-  const RunReport a = run_orders(*first, run);
-  const RunReport b = run_orders(*second, run);
-  EXPECT_EQ(a.done, 12U);
-  EXPECT_EQ(a.simulated, b.simulated);
-  EXPECT_EQ(a.messages, b.messages);
-  const auto log_a = first->log();
-  const auto log_b = second->log();
-  ASSERT_EQ(log_a.size(), log_b.size());
-  for (std::size_t i = 0; i < log_a.size(); ++i) {
-    ASSERT_EQ(log_a[i].text, log_b[i].text) << "line " << i;
-  }
-  EXPECT_GT(log_a.size(), 100U);
-}
-
 TEST(Simulation, ALayoutWhoseCandyNoRobotCanLoadIsRefusedAtStart) {
   line::Layout layout = *line::default_layout();
   std::erase_if(layout.dispensers, [](const line::DispenserSpec& d) { return d.candy == "toffee"; });

@@ -1,6 +1,7 @@
 #include "sf/simulation/run.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "sf/factory/order.hpp"
@@ -24,7 +25,7 @@ std::chrono::nanoseconds quantile(std::vector<std::chrono::nanoseconds> v, doubl
     return {};
   }
   std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
   return v[std::min(i, v.size() - 1)];
 }
 

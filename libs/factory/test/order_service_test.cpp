@@ -77,9 +77,9 @@ class OrderServiceTest : public ::testing::Test {
   }
 
   Result<std::vector<ua::Variant>> submit(std::string id, std::string box, std::vector<ua::String> candy) {
-    return client->call_method(ua::NodeId(ns, ua::String("OrderService")),
-                               ua::NodeId(ns, ua::String("OrderService.SubmitOrder")),
-                               {ua::Variant(std::move(id)), ua::Variant(std::move(box)), ua::Variant(candy)});
+    return client->call_method(
+        ua::NodeId(ns, ua::String("OrderService")), ua::NodeId(ns, ua::String("OrderService.SubmitOrder")),
+        {ua::Variant(std::move(id)), ua::Variant(std::move(box)), ua::Variant(std::move(candy))});
   }
   std::uint32_t counter(std::string_view name) {
     auto v = client->read_value(ua::NodeId(ns, ua::String(fmt::format("OrderService.{}", name))));

@@ -256,5 +256,17 @@ TEST(LinePlan, PlantEndpointsLinesAreChecked) {
   EXPECT_EQ((*e)[0].address, "h:1");
 }
 
+TEST(LinePlan, ACommandIsThereWhenItsOwnHelpAnswers) {
+  testing::TempDir dir;
+  // Like a CLI11 program: an unknown command's --help prints the program's own help, exit 0.
+  const fs::path program = dir.path() / "prog";
+  std::ofstream(program) << "#!/bin/sh\nif [ \"$1\" = line ]; then echo 'Usage: prog line [OPTIONS]'; "
+                            "else echo 'Usage: prog [OPTIONS] [SUBCOMMAND]'; echo '  line   the line'; fi\n";
+  fs::permissions(program, fs::perms::owner_all);
+  EXPECT_TRUE(has_command(program, "line"));
+  EXPECT_FALSE(has_command(program, "orders"));
+  EXPECT_FALSE(has_command(dir.path() / "missing", "line"));
+}
+
 }  // namespace
 }  // namespace sf::factory

@@ -175,10 +175,16 @@ bool has_command(const fs::path& program, std::string_view command) {
   ProcessOptions o;
   o.argv = {program.string(), std::string(command), "--help"};
   o.in = Stdio::null();
-  o.out = Stdio::null();
   o.err = Stdio::null();
   auto done = Process::run(std::move(o), 10s);
-  return done && done->status.success();
+  // An unknown command's --help is the program's own help (exit 0 too): the usage line tells.
+  if (!done || !done->status.success()) {
+    return false;
+  }
+  const auto usage = done->out.find("Usage: ");
+  const auto end = done->out.find('\n', usage);
+  return usage != std::string::npos &&
+         done->out.substr(usage, end - usage).find(fmt::format(" {} ", command)) != std::string::npos;
 }
 
 Result<LinePlan> plan_line(LineOptions options) {

@@ -2,7 +2,8 @@
 layout on loopback starts the plant, SCARA Robot 1's IPC (`machine`) and a gateway per belt,
 uploader, downloader and legacy robot (and the order service when the build has one), each once
 the one before is ready, and reports them in its --json status. The plant answers on its control
-port, every controller's OPC UA server answers with its machine in Execute. A gateway killed with
+port, every controller's OPC UA server answers with its machine in Execute; the order service
+takes an order from `smartfactory order` and the line makes it. A gateway killed with
 SIGKILL is started again by the supervisor (restarts = 1, up, its OPC UA server answers again);
 SIGINT stops everything in reverse order with exit 0 and leaves no process behind.
 """
@@ -58,6 +59,26 @@ def in_execute(endpoint, machine):
     check(state == ("Good", EXECUTE), f"{machine}'s OPC UA server {endpoint} answers: in Execute ({state})")
 
 
+def order_counter(endpoint, name):
+    proc = run([binary(), "opcua", "read", "--json", endpoint,
+                f"nsu=urn:smartfactory:orders;s=OrderService.{name}"], check_rc=False)
+    try:
+        value = json.loads(proc.stdout)[0]
+    except (json.JSONDecodeError, IndexError):
+        return None
+    return value.get("value") if value["status"] == "Good" else None
+
+
+def order_taken(endpoint):
+    """The order service answers on its OPC UA server and takes an order from `smartfactory order`;
+    the line makes it (uploaded, loaded, downloaded and inspected)."""
+    check(order_counter(endpoint, "Done") == 0, f"the order service's OPC UA server {endpoint} answers")
+    run([binary(), "order", "--server", endpoint, "--id", "line-test-1", "--box", "small-box",
+         "--candy", "gummy:1"])
+    wait_for(lambda: order_counter(endpoint, "Done") == 1, 180, "the order made by the line")
+    check(order_counter(endpoint, "Failed") == 0, "the line made the order")
+
+
 def plant_answers(run_dir):
     """The plant's control port (from its endpoints line in its log) answers a snapshot."""
     with open(os.path.join(run_dir, "log", "plant.log")) as f:
@@ -102,6 +123,11 @@ def main():
                 in_execute(endpoint, machine)
             check(len({p["opcua"] for p in ready.values() if p["opcua"]}) == len(CONTROLLERS) +
                   (1 if "orders" in ready else 0), "every OPC UA endpoint is its own")
+
+            if "orders" in ready:
+                order_taken(ready["orders"]["opcua"])
+            else:
+                print("note: this build has no order service", flush=True)
 
             killed = ready[KILLED]["pid"]
             os.kill(killed, signal.SIGKILL)

@@ -31,8 +31,8 @@ constexpr const char* kLineHelp =
     "  <smart robot>  `smartfactory machine` per smart robot (its IPC)\n"
     "  <machine>      `smartfactory gateway` per belt, uploader, downloader, legacy robot\n"
     "  cloud          `smartfactory cloud --config FILE` with --cloud-config\n"
-    "  orders         `smartfactory orders`: the order service (skipped when this build\n"
-    "                 has no `orders` command)\n"
+    "  orders         `smartfactory orders`: the order service; orders from --orders FILE\n"
+    "                 and from `smartfactory order` (skipped when this build has none)\n"
     "Everything listens on loopback; the controllers' OPC UA servers count up from\n"
     "--opcua-base-port in that order, then the order service; all share one DDS partition.\n"
     "A process that exits is started again after a back-off (0.5 s doubling to 10 s; given\n"
@@ -42,8 +42,8 @@ constexpr const char* kLineHelp =
 
 constexpr const char* kRunDirHelp =
     "Run directory (--run-dir, default $TMPDIR/smartfactory-line-PID):\n"
-    "  config/<machine>.yaml   each controller's configuration, written when the plant printed\n"
-    "                          its endpoints (Modbus and EtherCAT addresses)\n"
+    "  config/<name>.yaml      each controller's and the order service's configuration, written\n"
+    "                          when the plant printed its endpoints (Modbus, EtherCAT addresses)\n"
     "  log/<process>.log       each process's stdout and stderr, kept across restarts";
 
 struct LineCliOptions {
@@ -191,6 +191,7 @@ void register_line(CLI::App& app, CommandResult& result) {
                   "First Modbus TCP port of the plant's PLCs (0 = a free range)")
       ->capture_default_str();
   cmd->add_option("--partition", o->line.partition, "DDS partition (default: one of this run's own)");
+  cmd->add_option("--orders", o->line.orders_file, "Orders file the order service takes at its start");
   cmd->add_option("--cloud-config", o->line.cloud_config,
                   "Also run `smartfactory cloud` with this cloud.yaml");
   cmd->add_flag("--json", o->json, "Status as JSON lines on stdout (events ready, status, stopped)");

@@ -9,6 +9,7 @@
 
 #include "sf/factory/line_supervisor.hpp"
 #include "sf/factory/machine_config.hpp"
+#include "sf/factory/order_service.hpp"
 #include "sf/testing/temp_dir.hpp"
 
 namespace sf::factory {
@@ -95,9 +96,7 @@ TEST(LinePlan, OpcUaPortsCountUpFromTheBaseAndAreDistinct) {
     ports.insert(p.opcua_port);
   }
   EXPECT_EQ(ports.size(), plan->processes.size() - 1);
-  const auto* orders = find(*plan, "orders");
-  EXPECT_NE(std::find(orders->argv.begin(), orders->argv.end(), std::to_string(orders->opcua_port)),
-            orders->argv.end());
+  EXPECT_EQ(find(*plan, "orders")->opcua_port, 14850 + 10);  // after the 10 controllers
 }
 
 TEST(LinePlan, TheGeneratedConfigurationsParseWithTheControllersOwnParsers) {
@@ -134,6 +133,16 @@ TEST(LinePlan, TheGeneratedConfigurationsParseWithTheControllersOwnParsers) {
       EXPECT_TRUE(c.controller.auto_start);
     }
   }
+  // The order service: its OPC UA port after the controllers', the run's partition.
+  const LineProcess* orders = find(*plan, "orders");
+  auto service = load_order_service_config(orders->config);
+  ASSERT_TRUE(service) << service.error().describe();
+  EXPECT_EQ(service->config.service.opcua_port, orders->opcua_port);
+  EXPECT_EQ(service->config.service.dds.partition, "line-test");
+  EXPECT_TRUE(service->orders.empty());
+  EXPECT_EQ(orders->argv,
+            (std::vector<std::string>{"/bin/sh", "orders", "--config", orders->config.string(), "--json"}));
+
   // Each gateway talks to its own PLC: 5 belts, uploader, downloader, 2 legacy robots.
   EXPECT_EQ(modbus_ports.size(), 9U);
   EXPECT_EQ(*modbus_ports.begin(), 21502);
@@ -188,6 +197,26 @@ TEST(LinePlan, ThePlantsReadyLineWritesTheControllersConfigurations) {
   EXPECT_EQ(info->opcua, "opc.tcp://127.0.0.1:14850");
   EXPECT_FALSE(processes[1].ready(R"({"event":"status","machine":"scara-robot-1"})"));
   EXPECT_FALSE(processes[1].ready("{not json"));
+}
+
+TEST(LinePlan, TheOrderServiceTakesTheOrdersFile) {
+  testing::TempDir dir;
+  const fs::path file = dir.path() / "orders.yaml";
+  std::ofstream(file) << "orders:\n  - {id: o1, box: small-box, candy: {gummy: 4, toffee: 2}}\n";
+  auto o = options(dir.path());
+  o.orders_file = file;
+  auto plan = plan_line(o);
+  ASSERT_TRUE(plan) << plan.error().describe();
+  ASSERT_TRUE(
+      write_controller_configs(*plan, *parse_plant_endpoints(endpoints_line(plan->layout, 21502, 31980))));
+  auto service = load_order_service_config(find(*plan, "orders")->config);
+  ASSERT_TRUE(service) << service.error().describe();
+  ASSERT_EQ(service->orders.size(), 1U);
+  EXPECT_EQ(service->orders[0].id, "o1");
+  o.orders_file = dir.path() / "missing-orders.yaml";
+  auto refused = plan_line(o);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("missing-orders.yaml"), std::string::npos);
 }
 
 TEST(LinePlan, OptionalProcessesAndFreePorts) {

@@ -42,18 +42,40 @@ Result<std::pair<std::string, std::uint16_t>> host_port(const PlantEndpoint& e) 
                     fmt::format("{} of {}: '{}' is not HOST:PORT", e.protocol, e.machine, e.address));
 }
 
-// The keys every controller has (controller_config.hpp).
-void common_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p) {
-  y << YAML::Key << "machine" << YAML::Value << p.name;
-  if (!plan.options.layout_file.empty()) {
-    y << YAML::Key << "layout" << YAML::Value << fs::absolute(plan.options.layout_file).string();
+// An absolute path, so the configuration reads the same from any folder.
+void path_key(YAML::Emitter& y, std::string_view key, const fs::path& path) {
+  if (!path.empty()) {
+    y << YAML::Key << std::string(key) << YAML::Value << fs::absolute(path).string();
   }
-  y << YAML::Key << "start" << YAML::Value << "execute";
+}
+
+void opcua_and_dds_keys(YAML::Emitter& y, const LinePlan& plan, std::uint16_t port, bool open) {
   y << YAML::Key << "opcua" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "port"
-    << YAML::Value << p.opcua_port << YAML::EndMap;
+    << YAML::Value << port;
+  if (open) {
+    // Orders from anyone on this host, as configs/order-service.yaml: the line is on loopback.
+    y << YAML::Key << "modes" << YAML::Value << "none" << YAML::Key << "anonymous" << YAML::Value
+      << "operator";
+  }
+  y << YAML::EndMap;
   y << YAML::Key << "dds" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "interface"
     << YAML::Value << plan.options.interface << YAML::Key << "partition" << YAML::Value
     << plan.options.partition << YAML::EndMap;
+}
+
+// The keys every controller has (controller_config.hpp).
+void common_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p) {
+  y << YAML::Key << "machine" << YAML::Value << p.name;
+  path_key(y, "layout", plan.options.layout_file);
+  y << YAML::Key << "start" << YAML::Value << "execute";
+  opcua_and_dds_keys(y, plan, p.opcua_port, false);
+}
+
+// The order service's keys (order_service.hpp).
+void order_service_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p) {
+  path_key(y, "layout", plan.options.layout_file);
+  path_key(y, "orders", plan.options.orders_file);
+  opcua_and_dds_keys(y, plan, p.opcua_port, true);
 }
 
 }  // namespace
@@ -107,6 +129,8 @@ Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProce
     y << YAML::Key << "modbus" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "host"
       << YAML::Value << address->first << YAML::Key << "port" << YAML::Value << address->second
       << YAML::EndMap;
+  } else if (p.role == LineRole::orders) {
+    order_service_keys(y, plan, p);
   } else {
     return make_error(Errc::invalid_argument, fmt::format("{} has no generated configuration", p.name));
   }

@@ -94,6 +94,10 @@ Status check_options(const LineOptions& o) {
     return make_error(Errc::invalid_argument,
                       fmt::format("no smartfactory program at '{}'", o.program.string()));
   }
+  if (!o.orders_file.empty() && !fs::is_regular_file(o.orders_file)) {
+    return make_error(Errc::invalid_argument,
+                      fmt::format("orders file '{}': no such file", o.orders_file.string()));
+  }
   if (!o.cloud_config.empty() && !fs::is_regular_file(o.cloud_config)) {
     return make_error(Errc::invalid_argument,
                       fmt::format("cloud config '{}': no such file", o.cloud_config.string()));
@@ -129,16 +133,12 @@ void add_argv(LinePlan& plan) {
         break;
       case LineRole::machine:
       case LineRole::gateway:
+      case LineRole::orders:
         p.argv = {program, std::string(to_string(p.role)), "--config", p.config.string(), "--json"};
         continue;
       case LineRole::cloud:
         p.argv = {program, "cloud", "--config", fs::absolute(o.cloud_config).string()};
         continue;
-      case LineRole::orders:
-        p.argv = {program,           "orders",    "--opcua-port", std::to_string(p.opcua_port),
-                  "--dds-partition", o.partition, "--interface",  o.interface,
-                  "--json"};
-        break;
     }
     if (!layout.empty()) {
       p.argv.insert(p.argv.end(), {"--layout", layout});
@@ -223,7 +223,8 @@ Result<LinePlan> plan_line(LineOptions options) {
     plan.processes.push_back({"cloud", LineRole::cloud, GatewayKind::conveyor, {}, 0, {}});
   }
   if (o.order_service) {
-    plan.processes.push_back({"orders", LineRole::orders, GatewayKind::conveyor, {}, port, {}});
+    plan.processes.push_back(
+        {"orders", LineRole::orders, GatewayKind::conveyor, o.run_dir / "config" / "orders.yaml", port, {}});
   }
   add_argv(plan);
   return plan;

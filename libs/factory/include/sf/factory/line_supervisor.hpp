@@ -10,8 +10,8 @@
 // when the plant prints its endpoints line. Everything is on loopback; OPC UA ports count up from
 // a base port; every process of a run shares one DDS partition, so parallel runs do not meet.
 //
-// Run directory: config/<name>.yaml (the controllers' configurations), log/<name>.log (each
-// process's stdout and stderr, appended across restarts).
+// Run directory: config/<name>.yaml (the controllers' and the order service's configurations),
+// log/<name>.log (each process's stdout and stderr, appended across restarts).
 #pragma once
 
 #include <cstdint>
@@ -41,6 +41,7 @@ struct LineOptions {
   std::string partition;  // DDS partition; empty: one of its own for this run
   std::string interface = "lo";
   bool order_service = true;
+  std::filesystem::path orders_file;   // orders the order service takes at its start (optional)
   std::filesystem::path cloud_config;  // empty: no cloud
 };
 
@@ -52,7 +53,7 @@ struct LineProcess {
   std::string name;  // the machine's name; "plant", "cloud", "orders"
   LineRole role = LineRole::plant;
   GatewayKind kind = GatewayKind::conveyor;  // gateways
-  std::filesystem::path config;              // machine and gateway: generated when the plant is up
+  std::filesystem::path config;              // machine, gateway, orders: written when the plant is up
   std::uint16_t opcua_port = 0;              // 0: none (plant), or as its own config says (cloud)
   std::vector<std::string> argv;
 };
@@ -77,10 +78,10 @@ Result<LinePlan> plan_line(LineOptions options);
 // The plant's endpoints from its `{"endpoints": [...]}` line.
 Result<std::vector<PlantEndpoint>> parse_plant_endpoints(std::string_view line);
 
-// A controller's configuration (YAML) for the plant's endpoints: `gateway` or `machine` role.
+// The configuration (YAML) of a `machine`, `gateway` or `orders` process for the plant's endpoints.
 Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProcess& process,
                                            const std::vector<PlantEndpoint>& endpoints);
-// Writes every controller's configuration into the run directory.
+// Writes every configuration of the run into the run directory.
 Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEndpoint>& endpoints);
 
 // The processes for a Supervisor: argv, ready lines, and the plant's ready line writing the

@@ -10,6 +10,7 @@ SIGINT stops everything in reverse order with exit 0 and leaves no process behin
 import json
 import os
 import signal
+import socket
 import tempfile
 import time
 import uuid
@@ -96,8 +97,25 @@ def alive(pid):
     return True
 
 
+def refusals(tmp):
+    """Bad options: exit 2, nothing started. A process that cannot come up: exit 1, named with its log."""
+    proc = run([binary(), "line", "--run-dir", os.path.join(tmp, "bad"), "--partition", "a b"], check_rc=False)
+    check(proc.returncode == 2 and "partition 'a b'" in proc.stderr and not os.path.exists(os.path.join(tmp, "bad")),
+          f"a bad option is refused with exit 2 before anything starts: {proc.stderr.strip()}")
+    taken = socket.socket()
+    taken.bind(("127.0.0.1", 0))
+    taken.listen()
+    port = taken.getsockname()[1]
+    proc = run([binary(), "line", "--run-dir", os.path.join(tmp, "taken"), "--opcua-base-port", "0",
+                "--modbus-base-port", str(port)], check_rc=False, timeout=120)
+    taken.close()
+    check(proc.returncode == 1 and "plant exited" in proc.stderr and "Address already in use" in proc.stderr,
+          f"a plant that cannot listen stops the start with exit 1, named with its log: {proc.stderr.strip()}")
+
+
 def main():
     with tempfile.TemporaryDirectory(prefix="line_test_") as tmp:
+        refusals(tmp)
         run_dir = os.path.join(tmp, "run")
         line = Background([binary(), "line", "--run-dir", run_dir, "--opcua-base-port", "0", "--partition",
                            PARTITION, "--json", "--status-interval", "1"], log=os.path.join(tmp, "line.log"))

@@ -14,22 +14,12 @@ import tempfile
 import time
 import uuid
 
-from sftest import Background, binary, check, fail, run, source_dir, wait_for, wait_for_line
+from sftest import Background, binary, check, fail, json_events, run, source_dir, wait_for, wait_for_line
 
 PARTITION = f"gw-it-{uuid.uuid4().hex[:8]}"
 
 
-def events(text, kind=None):
-    out = []
-    for line in text.splitlines():
-        if line.startswith("{"):
-            try:
-                e = json.loads(line)
-            except json.JSONDecodeError:
-                fail(f"not JSON: {line}")
-            if kind is None or e.get("event") == kind:
-                out.append(e)
-    return out
+events = json_events
 
 
 def write_config(folder, machine, kind, port, opcua_port=0, name=None):

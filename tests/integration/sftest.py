@@ -64,6 +64,21 @@ def wait_for_line(background, prefix, timeout):
     return found[0]
 
 
+def json_events(text, kind=None):
+    """The JSON lines of a process's output (lines starting with '{'), only those whose "event" is
+    kind when given; a line that is not JSON fails the test."""
+    out = []
+    for line in text.splitlines():
+        if line.startswith("{"):
+            try:
+                e = json.loads(line)
+            except json.JSONDecodeError:
+                fail(f"not JSON: {line}")
+            if kind is None or e.get("event") == kind:
+                out.append(e)
+    return out
+
+
 def fail(message):
     print(f"FAIL: {message}", file=sys.stderr, flush=True)
     sys.exit(1)

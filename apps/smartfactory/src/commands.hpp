@@ -54,6 +54,9 @@ void register_gateway(CLI::App& app, CommandResult& result);
 // `orders --config FILE` and `order ...` (factory module): the order service and its client.
 void register_orders(CLI::App& app, CommandResult& result);
 
+// `line --layout FILE` (factory module): the line's processes, supervised.
+void register_line(CLI::App& app, CommandResult& result);
+
 // `simulate` (simulation module): the factory in its deterministic mode.
 void register_simulate(CLI::App& app, CommandResult& result);
 

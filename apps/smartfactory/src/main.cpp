@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
 #ifdef SF_HAVE_FACTORY
   sf::app::register_machine(app, result);
   sf::app::register_gateway(app, result);
+  sf::app::register_line(app, result);
 #ifdef SF_HAVE_OPCUA
   sf::app::register_orders(app, result);
 #endif

@@ -19,6 +19,7 @@ namespace {
 
 constexpr std::string_view kNamespace = "urn:smartfactory:orders";
 constexpr std::array<std::string_view, 5> kCounters{"Queued", "InWork", "Done", "Failed", "Remade"};
+constexpr std::array<std::string_view, 2> kTexts{"LastEvent", "LastInspection"};
 
 ua::NodeId node(std::uint16_t ns, std::string_view path) {
   return {ns, ua::String(fmt::format("OrderService{}{}", path.empty() ? "" : ".", path))};
@@ -66,10 +67,12 @@ Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agen
     spec.value = ua::DataValue(ua::Variant(std::uint32_t{0}));
     SF_TRY(space.add_variable(spec));
   }
-  auto last = variable_spec(node(ns, "LastEvent"), ua::QualifiedName(ns, "LastEvent"), node(ns, ""),
-                            ua::id::String, false);
-  last.value = ua::DataValue(ua::Variant(std::string()));
-  SF_TRY(space.add_variable(last));
+  for (std::string_view name : kTexts) {
+    auto text = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
+                              ua::id::String, false);
+    text.value = ua::DataValue(ua::Variant(std::string()));
+    SF_TRY(space.add_variable(text));
+  }
 
   srv::MethodSpec submit;
   submit.node_id = node(ns, "SubmitOrder");
@@ -122,6 +125,7 @@ void OrderModel::update() {
                             ua::DataValue(ua::Variant(static_cast<std::uint32_t>(values[i]))));
     }
     (void)space.set_value(node(ns_, "LastEvent"), ua::DataValue(ua::Variant(s.last_event)));
+    (void)space.set_value(node(ns_, "LastInspection"), ua::DataValue(ua::Variant(s.last_inspection)));
   });
 }
 

@@ -7,7 +7,7 @@
 //
 // Orders come in from any thread (the OPC UA server's SubmitOrder, a file at
 // start-up) and are handed to the agents' loop; the host's counters and its
-// latest event are published on the service's own OPC UA server
+// latest event and inspection are published on the service's own OPC UA server
 // (OrderModel), where the cloud reads them like any machine's model.
 #pragma once
 
@@ -42,7 +42,8 @@ struct OrderServiceStatus {
   std::size_t done = 0;
   std::size_t failed = 0;
   std::uint64_t remade = 0;
-  std::string last_event;  // "12.345 alice-1 loaded scara-robot-1 ..."
+  std::string last_event;       // "12.345 alice-1 loaded scara-robot-1 ..."
+  std::string last_inspection;  // "alice-1 box 7: 53.0 g, 2 gummy, 1 toffee"
 };
 
 class OrderServiceAgent final : public negotiation::Agent {
@@ -89,7 +90,7 @@ class OrderServiceAgent final : public negotiation::Agent {
 
 // The service's model on an OPC UA server (namespace urn:smartfactory:orders):
 //   Objects/OrderService
-//     Queued, InWork, Done, Failed, Remade (UInt32)   LastEvent (String)
+//     Queued, InWork, Done, Failed, Remade (UInt32)   LastEvent, LastInspection (String)
 //     SubmitOrder(Id: String, BoxType: String, Candy: String[] "type:quantity") → OrderId: String
 // SubmitOrder answers BadInvalidArgument for an order the catalog refuses or an id taken, and
 // needs the role operator (a viewer gets BadUserAccessDenied from the server's role check).

@@ -61,6 +61,8 @@ class OrderHost {
   [[nodiscard]] std::uint64_t remade() const { return remade_; }
   [[nodiscard]] const std::map<std::string, OrderRecord>& records() const { return records_; }
   [[nodiscard]] std::size_t wip() const { return wip_; }
+  // Products on the line now (admitted, not yet settled).
+  [[nodiscard]] std::size_t active() const { return agents_.size(); }
   [[nodiscard]] bool idle() const { return queue_.empty() && agents_.empty(); }
 
  private:

@@ -13,6 +13,7 @@
 // one another cannot close a circle.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -69,6 +70,8 @@ class OrderHost {
   void admit(OrderRecord& record);
   void settle(const OrderAgent& agent);
   void emit(const std::string& order, std::string what, std::string detail);
+  // Every state change goes through here: count() is asked every step of a long run.
+  void set_state(OrderRecord& r, OrderState state);
 
   BeltBlocks belts_;
   ProductContext context_;
@@ -79,6 +82,7 @@ class OrderHost {
   std::deque<std::string> queue_;
   std::vector<std::shared_ptr<OrderAgent>> agents_;
   std::uint64_t remade_ = 0;
+  std::array<std::size_t, 4> counts_{};  // by OrderState
 };
 
 // The most boxes the layout's belts can hold without a circle of boxes

@@ -46,6 +46,18 @@ std::string_view to_string(Phase phase) {
   return "?";
 }
 
+Conversation open_conversation(std::string id, OperationRequest request, ConversationEvents events,
+                               Clock::time_point now) {
+  Conversation c;
+  c.id = std::move(id);
+  c.product = std::move(request.product);
+  c.operation = std::move(request.operation);
+  c.params = std::move(request.params);
+  c.started_at = now;
+  c.events = std::move(events);
+  return c;
+}
+
 Manager::Manager(ManagerTransport& transport, const Clock& clock, ManagerConfig config,
                  SelectionPolicy policy)
     : transport_(&transport),
@@ -74,21 +86,17 @@ Result<std::string> Manager::negotiate(OperationRequest request, ConversationEve
     return Error{Errc::limit_exceeded,
                  fmt::format("conversation id '{}' is longer than {}", id, kMaxConversation)};
   }
-  Conversation& c = conversations_[id];
-  c.id = id;
-  c.product = std::move(request.product);
-  c.operation = std::move(request.operation);
-  c.params = std::move(request.params);
-  c.started_at = clock_->now();
-  c.events = std::move(events);
+  const std::string directed_to = request.directed_to;
+  Conversation& c = conversations_[id] =
+      open_conversation(id, std::move(request), std::move(events), clock_->now());
   ++stats_.started;
-  if (request.directed_to.empty()) {
+  if (directed_to.empty()) {
     start_round(c);
     return id;
   }
   // DIRECTEDAWARD: no call for proposals; confirm or we fall back to ANNOUNCE.
   c.phase = Phase::Directing;
-  c.contractor = request.directed_to;
+  c.contractor = directed_to;
   c.last_award = 1;
   c.awarded[1] = c.contractor;
   const auto confirm_by = clock_->utc_now() + config_.confirm_window;

@@ -9,6 +9,8 @@
 
 namespace sf::simulation {
 
+using namespace std::chrono_literals;
+
 double RunReport::boxes_per_hour() const {
   const double hours = std::chrono::duration<double>(simulated).count() / 3600.0;
   return hours > 0.0 ? static_cast<double>(done) / hours : 0.0;
@@ -18,7 +20,46 @@ double RunReport::speedup() const {
   return wall.count() > 0 ? static_cast<double>(simulated.count()) / static_cast<double>(wall.count()) : 0.0;
 }
 
+double RunReport::utilisation() const {
+  return simulated.count() > 0
+             ? static_cast<double>(bottleneck_working.count()) / static_cast<double>(simulated.count())
+             : 0.0;
+}
+
+double RunReport::bound_boxes_per_hour() const {
+  const double u = utilisation();
+  return u > 0.0 ? boxes_per_hour() / u : 0.0;
+}
+
+double RunReport::decision_share() const {
+  return on_line.count() > 0 ? static_cast<double>(deciding.count()) / static_cast<double>(on_line.count())
+                             : 0.0;
+}
+
 namespace {
+
+// What the simulation had counted when the run began.
+struct Baseline {
+  Clock::time_point started;
+  std::chrono::steady_clock::time_point wall;
+  std::vector<MachineLoad> loads;
+  std::chrono::nanoseconds deciding;
+  std::chrono::nanoseconds on_line;
+  static Baseline of(const Simulation& sim) {
+    return {sim.now(), std::chrono::steady_clock::now(), sim.loads(), sim.deciding(), sim.on_line()};
+  }
+};
+
+void bottleneck(const Simulation& sim, const Baseline& from, RunReport& r) {
+  const auto loads = sim.loads();
+  for (std::size_t i = 0; i < loads.size(); ++i) {
+    const auto working = loads[i].working - (i < from.loads.size() ? from.loads[i].working : 0ns);
+    if (working > r.bottleneck_working) {
+      r.bottleneck = loads[i].machine;
+      r.bottleneck_working = working;
+    }
+  }
+}
 
 std::chrono::nanoseconds quantile(std::vector<std::chrono::nanoseconds> v, double q) {
   if (v.empty()) {
@@ -29,8 +70,7 @@ std::chrono::nanoseconds quantile(std::vector<std::chrono::nanoseconds> v, doubl
   return v[std::min(i, v.size() - 1)];
 }
 
-RunReport report(const Simulation& sim, Clock::time_point started,
-                 std::chrono::steady_clock::time_point wall) {
+RunReport report(const Simulation& sim, const Baseline& from) {
   RunReport r;
   std::vector<std::chrono::nanoseconds> leads;
   for (const auto& [id, rec] : sim.host().records()) {
@@ -47,9 +87,12 @@ RunReport report(const Simulation& sim, Clock::time_point started,
   r.remade = sim.host().remade();
   r.lead_p50 = quantile(leads, 0.5);
   r.lead_p99 = quantile(leads, 0.99);
-  r.simulated = sim.now() - started;
-  r.wall = std::chrono::steady_clock::now() - wall;
+  r.simulated = sim.now() - from.started;
+  r.wall = std::chrono::steady_clock::now() - from.wall;
   r.messages = sim.messages();
+  r.deciding = sim.deciding() - from.deciding;
+  r.on_line = sim.on_line() - from.on_line;
+  bottleneck(sim, from, r);
   return r;
 }
 
@@ -57,8 +100,8 @@ RunReport report(const Simulation& sim, Clock::time_point started,
 
 RunReport run_orders(Simulation& sim, const RunOptions& options) {
   factory::OrderGenerator orders(sim.plant().layout().catalog, options.seed);
-  const Clock::time_point started = sim.now();
-  const auto wall = std::chrono::steady_clock::now();
+  const Baseline from = Baseline::of(sim);
+  const Clock::time_point started = from.started;
   const auto end = options.duration.count() > 0 ? started + options.duration : Clock::time_point::max();
   auto next_progress = started + options.progress_every;
   auto finished = [&] {
@@ -90,10 +133,10 @@ RunReport run_orders(Simulation& sim, const RunOptions& options) {
     sim.step();
     if (options.progress && sim.now() >= next_progress) {
       next_progress += options.progress_every;
-      options.progress(report(sim, started, wall));
+      options.progress(report(sim, from));
     }
   }
-  RunReport r = report(sim, started, wall);
+  RunReport r = report(sim, from);
   r.stalled = stalled;
   return r;
 }

@@ -17,6 +17,8 @@
 #include "sf/negotiation/memory_transport.hpp"
 #include "sf/negotiation/route.hpp"
 #include "sf/plant/plant.hpp"
+#include "sf/simulation/central_dispatcher.hpp"
+#include "timed_decisions.hpp"
 
 namespace sf::simulation {
 
@@ -75,12 +77,17 @@ struct Simulation::Parts {
         products(net.add_manager()),
         manager(products, clock, manager_config()),
         planner(products, clock, cnp::RouteConfig{300ms, 500ms, 5, 0x5101}),
-        host({&layout, &manager, &planner, &clock}, o.host,
+        contract_net(manager, planner),
+        dispatcher(clock),
+        timed(central() ? static_cast<factory::ProductDecisions&>(dispatcher) : contract_net, clock),
+        host({&layout, &timed, &clock}, o.host,
              [this](const factory::OrderEvent& e) { events.push_back(e); }),
         start(clock.now()) {
     products.bind(static_cast<cnp::ManagerInbox&>(manager));
     products.bind(static_cast<cnp::RouteInbox&>(planner));
   }
+
+  [[nodiscard]] bool central() const { return options.decisions == Decisions::central_dispatcher; }
 
   static cnp::MemoryNetworkOptions network_options(std::uint64_t seed) {
     cnp::MemoryNetworkOptions o;
@@ -103,6 +110,11 @@ struct Simulation::Parts {
     if (auto started = n.robot.start(); !started) {
       return make_error(started.error().code, fmt::format("{}: {}", spec.name, started.error().message));
     }
+    machines.push_back(&n.robot);
+    if (central()) {
+      dispatcher.add(n.robot);
+      return {};
+    }
     n.backend.emplace(n.robot);
     auto& endpoint = net.add_contractor(spec.name, n.robot.operations());
     cnp::ContractorConfig config_cnp{spec.name, n.backend->skills()};
@@ -123,6 +135,16 @@ struct Simulation::Parts {
     client_options.clock = &clock;
     n.client = std::make_unique<modbus::MemoryClient>(*plant.plc(machine), client_options);
     n.gateway = std::make_unique<factory::Gateway>(gateway_config(machine, kind), layout, *n.client, clock);
+    machines.push_back(n.gateway.get());
+    if (central()) {
+      std::function<factory::ConveyorOffer()> offer;
+      if (kind == factory::GatewayKind::conveyor) {
+        offer = [g = n.gateway.get()] { return g->conveyor_offer(); };
+      }
+      dispatcher.add(*n.gateway, std::move(offer));
+      gateways.push_back(std::move(n));
+      return {};
+    }
     auto& machining = net.add_contractor(machine, n.gateway->operations());
     cnp::MemoryConveyorEndpoint* conveying =
         kind == factory::GatewayKind::conveyor ? &net.add_conveyor(machine) : nullptr;
@@ -207,17 +229,30 @@ struct Simulation::Parts {
     net.deliver();
     manager.tick();
     planner.tick();
+    dispatcher.tick();
     for (auto& r : robots) {
-      if (!dead.contains(r->robot.identification().name)) {
+      if (r->contractor && !dead.contains(r->robot.identification().name)) {
         r->contractor->tick();
       }
     }
     for (auto& g : gateways) {
-      if (!dead.contains(g.gateway->config().controller.machine)) {
+      if (g.roles && !dead.contains(g.gateway->config().controller.machine)) {
         g.roles->contractor().tick();
       }
     }
     host.tick();
+    measure();
+  }
+
+  // Utilisation and time on the line, one step's worth.
+  void measure() {
+    working.resize(machines.size());
+    for (std::size_t i = 0; i < machines.size(); ++i) {
+      if (machines[i]->working()) {
+        working[i] += 1ms;
+      }
+    }
+    on_line += static_cast<std::int64_t>(host.active()) * 1ms;
   }
 
   SimulationOptions options;
@@ -228,12 +263,18 @@ struct Simulation::Parts {
   cnp::MemoryManagerEndpoint& products;
   cnp::Manager manager;
   cnp::RoutePlanner planner;
+  factory::ContractNetDecisions contract_net;
+  CentralDispatcher dispatcher;
+  TimedDecisions timed;
   std::vector<factory::OrderEvent> events;
   factory::OrderHost host;
   Clock::time_point start;
   std::set<std::string> dead;  // controllers whose process was killed
   std::vector<std::unique_ptr<SmartRobotNode>> robots;
   std::vector<GatewayNode> gateways;
+  std::vector<factory::MachineController*> machines;  // in the order they were built
+  std::vector<std::chrono::nanoseconds> working;
+  std::chrono::nanoseconds on_line{0};
 };
 
 Result<std::unique_ptr<Simulation>> Simulation::create(line::Layout layout, SimulationOptions options) {
@@ -310,6 +351,21 @@ Status Simulation::clear(std::string_view fault) {
 
 std::uint64_t Simulation::messages() const {
   return parts_->net.stats().sent;
+}
+
+std::vector<MachineLoad> Simulation::loads() const {
+  std::vector<MachineLoad> out;
+  for (std::size_t i = 0; i < parts_->machines.size(); ++i) {
+    out.push_back({parts_->machines[i]->identification().name,
+                   i < parts_->working.size() ? parts_->working[i] : std::chrono::nanoseconds{0}});
+  }
+  return out;
+}
+std::chrono::nanoseconds Simulation::deciding() const {
+  return parts_->timed.waited();
+}
+std::chrono::nanoseconds Simulation::on_line() const {
+  return parts_->on_line;
 }
 
 std::vector<LogLine> Simulation::log() const {

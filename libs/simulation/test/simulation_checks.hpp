@@ -34,6 +34,18 @@ inline std::map<plant::BoxId, std::map<std::string, int>> placed(const plant::Pl
   return out;
 }
 
+// Makes one order on an idle line: done in one box whose inspection and ground truth equal it.
+inline void expect_made(Simulation& sim, const factory::Order& order) {
+  ASSERT_TRUE(sim.submit(order));
+  EXPECT_TRUE(sim.run_until([&] { return sim.host().idle(); }, std::chrono::seconds{300}));
+  const auto& r = sim.host().records().at(order.id);
+  EXPECT_EQ(r.state, factory::OrderState::done) << r.failure;
+  ASSERT_EQ(r.boxes.size(), 1U);
+  ASSERT_TRUE(r.inspection);
+  EXPECT_EQ(r.inspection->counts, order.counts());
+  EXPECT_EQ(placed(sim.plant()).at(r.boxes[0]), order.counts());
+}
+
 inline void dump_on_failure(const Simulation& sim) {
   if (::testing::Test::HasFailure() || std::getenv("SF_SIM_LOG") != nullptr) {
     for (const auto& l : sim.log()) {

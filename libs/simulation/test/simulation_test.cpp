@@ -20,21 +20,14 @@ namespace {
 
 using namespace std::chrono_literals;
 using testing::dump_on_failure;
+using testing::expect_made;
 using testing::make;
 using testing::placed;
 
 TEST(Simulation, AnOrderIsUploadedLoadedInspectedAndDone) {
   auto sim = make();
   ASSERT_TRUE(sim);
-  factory::Order order{"alice-1", "small-box", {{"gummy", 2}, {"toffee", 1}}};
-  ASSERT_TRUE(sim->submit(order));
-  EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 300s));
-  const auto& r = sim->host().records().at("alice-1");
-  EXPECT_EQ(r.state, factory::OrderState::done) << r.failure;
-  ASSERT_EQ(r.boxes.size(), 1U);
-  ASSERT_TRUE(r.inspection);
-  EXPECT_EQ(r.inspection->counts, order.counts());
-  EXPECT_EQ(placed(sim->plant()).at(r.boxes[0]), order.counts());
+  expect_made(*sim, {"alice-1", "small-box", {{"gummy", 2}, {"toffee", 1}}});
   dump_on_failure(*sim);
 }
 

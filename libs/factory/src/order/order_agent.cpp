@@ -116,7 +116,7 @@ void OrderAgent::begin_step() {
       guarded([](OrderAgent& a, const cnp::Conversation& c) {
         a.retry(fmt::format("{} found no machine: {}", c.operation, c.failure), [&a] { a.begin_step(); });
       })};
-  auto id = context_.manager->negotiate({product_, op.type, std::move(params), {}}, std::move(events));
+  auto id = context_.decisions->negotiate({product_, op.type, std::move(params), {}}, std::move(events));
   if (!id) {
     finish(fmt::format("{} cannot be negotiated: {}", op.type, id.error().describe()));
   }
@@ -163,8 +163,8 @@ void OrderAgent::on_work_done(const cnp::Conversation& c) {
 void OrderAgent::route_to_machine() {
   moving_ = true;
   auto id =
-      context_.planner->plan(product_, location_, target_,
-                             guarded([](OrderAgent& a, const Result<cnp::Route>& r) { a.on_route(r); }));
+      context_.decisions->plan(product_, location_, target_,
+                               guarded([](OrderAgent& a, const Result<cnp::Route>& r) { a.on_route(r); }));
   if (!id) {
     moving_ = false;
     retry(fmt::format("no route request: {}", id.error().describe()), [this] { route_to_machine(); });
@@ -226,8 +226,8 @@ void OrderAgent::next_transport() {
         a.retry(fmt::format("transport {} → {} on {}: {}", hop.from, hop.to, hop.conveyor, c.failure),
                 [&a] { a.route_to_machine(); });
       })};
-  auto id = context_.manager->negotiate({product_, std::string(kTransport), std::move(params), hop.conveyor},
-                                        std::move(events));
+  auto id = context_.decisions->negotiate(
+      {product_, std::string(kTransport), std::move(params), hop.conveyor}, std::move(events));
   if (!id) {
     moving_ = false;
     retry(fmt::format("transport cannot be negotiated: {}", id.error().describe()),

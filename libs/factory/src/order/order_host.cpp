@@ -74,6 +74,7 @@ Status OrderHost::submit(Order order) {
   OrderRecord& r = records_[id];
   r.order = std::move(order);
   r.accepted = context_.clock->now();
+  ++counts_[static_cast<std::size_t>(OrderState::queued)];
   queue_.push_back(id);
   emit(id, "accepted", fmt::format("{} with {} candies", r.order.box_type, r.order.total()));
   return {};
@@ -99,7 +100,7 @@ void OrderHost::tick() {
 
 void OrderHost::admit(OrderRecord& r) {
   ++r.attempts;
-  r.state = OrderState::in_work;
+  set_state(r, OrderState::in_work);
   auto agent = OrderAgent::create(r.order, fmt::format("{}.{}", r.order.id, r.attempts), context_,
                                   options_.agent, sink_);
   agents_.push_back(agent);
@@ -116,24 +117,29 @@ void OrderHost::settle(const OrderAgent& agent) {
   r.inspection = agent.inspection();
   r.failure = agent.failure();
   if (agent.ok()) {
-    r.state = OrderState::done;
+    set_state(r, OrderState::done);
     r.finished = context_.clock->now();
     return;
   }
   if (r.attempts < options_.max_attempts) {
-    r.state = OrderState::queued;
+    set_state(r, OrderState::queued);
     queue_.push_front(r.order.id);
     ++remade_;
     emit(r.order.id, "remade", fmt::format("attempt {} failed: {}", r.attempts, r.failure));
     return;
   }
-  r.state = OrderState::failed;
+  set_state(r, OrderState::failed);
   r.finished = context_.clock->now();
 }
 
 std::size_t OrderHost::count(OrderState state) const {
-  return static_cast<std::size_t>(std::count_if(records_.begin(), records_.end(),
-                                                [state](const auto& r) { return r.second.state == state; }));
+  return counts_[static_cast<std::size_t>(state)];
+}
+
+void OrderHost::set_state(OrderRecord& r, OrderState state) {
+  --counts_[static_cast<std::size_t>(r.state)];
+  ++counts_[static_cast<std::size_t>(state)];
+  r.state = state;
 }
 
 void OrderHost::emit(const std::string& order, std::string what, std::string detail) {

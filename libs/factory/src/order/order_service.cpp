@@ -23,12 +23,12 @@ Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
   a->planner_ = std::make_unique<cnp::RoutePlanner>(*a->endpoints_, clock);
   a->endpoints_->bind(static_cast<cnp::ManagerInbox&>(*a->manager_));
   a->endpoints_->bind(static_cast<cnp::RouteInbox&>(*a->planner_));
+  a->decisions_ = std::make_unique<ContractNetDecisions>(*a->manager_, *a->planner_);
   a->on_event_ = std::move(on_event);
   a->started_at_ = clock.now();
   auto* self = a.get();
   a->host_ = std::make_unique<OrderHost>(
-      ProductContext{&layout, a->manager_.get(), a->planner_.get(), &clock}, options,
-      [self](const OrderEvent& e) {
+      ProductContext{&layout, a->decisions_.get(), &clock}, options, [self](const OrderEvent& e) {
         {
           std::lock_guard lock(self->mutex_);
           self->status_.last_event = fmt::format(

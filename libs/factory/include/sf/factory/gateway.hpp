@@ -84,6 +84,7 @@ class Gateway final : public MachineController, private UnitWork {
   Status command(PackMLCommand command) override;
   Clock::time_point poll(Clock::time_point now) override;
   [[nodiscard]] ControllerStatus status() const override;
+  [[nodiscard]] bool working() const override { return jobs_.current() != nullptr; }
 
   [[nodiscard]] const GatewayConfig& config() const { return config_; }
   [[nodiscard]] const line::Layout& layout() const { return layout_; }

@@ -118,6 +118,9 @@ class MachineController {
   // poll, the next move of a job. Returns when it should be called again.
   virtual Clock::time_point poll(Clock::time_point now) = 0;
   [[nodiscard]] virtual ControllerStatus status() const = 0;
+  // Whether a job is in work now (begun, not yet ended): what a machine's
+  // utilisation counts, asked every cycle, so cheaper than status().
+  [[nodiscard]] virtual bool working() const { return status().job.has_value(); }
 
   // Called from poll() when a submitted job ends.
   void on_job_end(std::function<void(const JobOutcome&)> callback) { on_job_end_ = std::move(callback); }

@@ -90,12 +90,47 @@ class BeltBlocks {
 // The belt of a place ("conveyor2/scara1" or the entry "conveyor2").
 std::string belt_of(const std::string& place);
 
+// Who decides a product's machines and routes. In the factory that is the
+// Contract Net (ContractNetDecisions: the host's manager and route planner);
+// a benchmark may put a central dispatcher here to compare against it. Both
+// answer through the Contract Net's conversation events, so the product's
+// steps are the same whoever decides.
+class ProductDecisions {
+ public:
+  virtual ~ProductDecisions() = default;
+  // An operation for `request.product` (directed_to: this machine only); its id.
+  virtual Result<std::string> negotiate(negotiation::OperationRequest request,
+                                        negotiation::ConversationEvents events) = 0;
+  // A route from `from` to `to`; `done` is called exactly once.
+  virtual Result<std::string> plan(const std::string& product, const std::string& from, const std::string& to,
+                                   negotiation::RouteCallback done) = 0;
+};
+
+// The Contract Net's decisions (paper §IV.B): MachiningDomain conversations and
+// ConveyingDomain route requests. Both must outlive it.
+class ContractNetDecisions final : public ProductDecisions {
+ public:
+  ContractNetDecisions(negotiation::Manager& manager, negotiation::RoutePlanner& planner)
+      : manager_(&manager), planner_(&planner) {}
+  Result<std::string> negotiate(negotiation::OperationRequest request,
+                                negotiation::ConversationEvents events) override {
+    return manager_->negotiate(std::move(request), std::move(events));
+  }
+  Result<std::string> plan(const std::string& product, const std::string& from, const std::string& to,
+                           negotiation::RouteCallback done) override {
+    return planner_->plan(product, from, to, std::move(done));
+  }
+
+ private:
+  negotiation::Manager* manager_;
+  negotiation::RoutePlanner* planner_;
+};
+
 // What the products of one host run on: the line's layout (stations, places,
-// catalog), the host's Contract Net manager and route planner, its clock.
+// catalog), who decides their machines and routes, its clock.
 struct ProductContext {
   const line::Layout* layout = nullptr;
-  negotiation::Manager* manager = nullptr;
-  negotiation::RoutePlanner* planner = nullptr;
+  ProductDecisions* decisions = nullptr;
   const Clock* clock = nullptr;
   BeltBlocks* belts = nullptr;
 };

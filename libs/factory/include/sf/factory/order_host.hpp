@@ -13,6 +13,7 @@
 // one another cannot close a circle.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -61,12 +62,16 @@ class OrderHost {
   [[nodiscard]] std::uint64_t remade() const { return remade_; }
   [[nodiscard]] const std::map<std::string, OrderRecord>& records() const { return records_; }
   [[nodiscard]] std::size_t wip() const { return wip_; }
+  // Products on the line now (admitted, not yet settled).
+  [[nodiscard]] std::size_t active() const { return agents_.size(); }
   [[nodiscard]] bool idle() const { return queue_.empty() && agents_.empty(); }
 
  private:
   void admit(OrderRecord& record);
   void settle(const OrderAgent& agent);
   void emit(const std::string& order, std::string what, std::string detail);
+  // Every state change goes through here: count() is asked every step of a long run.
+  void set_state(OrderRecord& r, OrderState state);
 
   BeltBlocks belts_;
   ProductContext context_;
@@ -77,6 +82,7 @@ class OrderHost {
   std::deque<std::string> queue_;
   std::vector<std::shared_ptr<OrderAgent>> agents_;
   std::uint64_t remade_ = 0;
+  std::array<std::size_t, 4> counts_{};  // by OrderState
 };
 
 // The most boxes the layout's belts can hold without a circle of boxes

@@ -78,6 +78,7 @@ class OrderServiceAgent final : public negotiation::Agent {
   std::unique_ptr<negotiation::ProductEndpoints> endpoints_;
   std::unique_ptr<negotiation::Manager> manager_;
   std::unique_ptr<negotiation::RoutePlanner> planner_;
+  std::unique_ptr<ContractNetDecisions> decisions_;
   std::unique_ptr<OrderHost> host_;
   OrderEventSink on_event_;
   Clock::time_point started_at_{};

@@ -107,6 +107,7 @@ class SmartRobot final : public MachineController, private UnitWork {
   // One EtherCAT cycle and the controller's work in it; next call one cycle later.
   Clock::time_point poll(Clock::time_point now) override;
   [[nodiscard]] ControllerStatus status() const override;
+  [[nodiscard]] bool working() const override { return jobs_.current() != nullptr; }
 
   [[nodiscard]] const line::Layout& layout() const { return layout_; }
   [[nodiscard]] const smart_robot::Arm& arm() const { return *arm_; }

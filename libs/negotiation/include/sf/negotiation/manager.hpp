@@ -96,6 +96,11 @@ struct Conversation {
   ConversationEvents events;
 };
 
+// A conversation for `request` opened at `now` (Phase::Collecting), as a manager
+// keeps it; a central dispatcher keeps its decisions the same way.
+Conversation open_conversation(std::string id, OperationRequest request, ConversationEvents events,
+                               Clock::time_point now);
+
 struct ManagerStats {
   std::uint64_t started = 0;
   std::uint64_t announcements = 0;

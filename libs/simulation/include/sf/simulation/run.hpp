@@ -25,8 +25,19 @@ struct RunReport {
   std::chrono::nanoseconds wall{0};
   std::uint64_t messages = 0;  // Contract Net messages, both domains
   bool stalled = false;        // ended because no order finished for RunOptions::stall_after
+  // The busiest machine of the run and its time in work: with it busy all the time the line
+  // could make boxes_per_hour() / utilisation at most (the bottleneck bound).
+  std::string bottleneck;
+  std::chrono::nanoseconds bottleneck_working{0};
+  // Products' waits for decisions and their time on the line, summed (Simulation::deciding).
+  std::chrono::nanoseconds deciding{0};
+  std::chrono::nanoseconds on_line{0};
   [[nodiscard]] double boxes_per_hour() const;
   [[nodiscard]] double speedup() const;  // simulated time / wall time
+  // The bottleneck's time in work over the run's span: the throughput as a share of the bound.
+  [[nodiscard]] double utilisation() const;
+  [[nodiscard]] double bound_boxes_per_hour() const;
+  [[nodiscard]] double decision_share() const;  // of the products' time on the line
 };
 
 struct RunOptions {

@@ -32,9 +32,22 @@ class Plant;
 
 namespace sf::simulation {
 
+// Who decides the products' machines and routes: the Contract Net (the
+// factory's way), or the central dispatcher the scheduling benchmark compares
+// it with (central_dispatcher.hpp).
+enum class Decisions : std::uint8_t { contract_net, central_dispatcher };
+
 struct SimulationOptions {
   std::uint64_t seed = 1;
   factory::OrderHostOptions host;
+  Decisions decisions = Decisions::contract_net;
+};
+
+// How long a machine had a job in work (MachineController::working), sampled
+// every step: the utilisation the bottleneck bound is computed from.
+struct MachineLoad {
+  std::string machine;
+  std::chrono::nanoseconds working{0};
 };
 
 // One line of the run's log: an order's event or the plant's, in time order.
@@ -76,6 +89,12 @@ class Simulation {
   [[nodiscard]] const std::vector<factory::OrderEvent>& order_events() const;
   // Contract Net messages sent so far (both domains).
   [[nodiscard]] std::uint64_t messages() const;
+  // Every machine's time in work so far, in layout order.
+  [[nodiscard]] std::vector<MachineLoad> loads() const;
+  // The products' waits for decisions (an operation until its machine is confirmed, a route
+  // until it is composed) and their time on the line (admitted to settled), both summed.
+  [[nodiscard]] std::chrono::nanoseconds deciding() const;
+  [[nodiscard]] std::chrono::nanoseconds on_line() const;
 
  private:
   struct Parts;

@@ -57,6 +57,9 @@ void register_orders(CLI::App& app, CommandResult& result);
 // `line --layout FILE` (factory module): the line's processes, supervised.
 void register_line(CLI::App& app, CommandResult& result);
 
+// `demo` (factory module): the candy factory as processes, fed generated orders.
+void register_demo(CLI::App& app, CommandResult& result);
+
 // `simulate` (simulation module): the factory in its deterministic mode.
 void register_simulate(CLI::App& app, CommandResult& result);
 

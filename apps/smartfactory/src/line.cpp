@@ -194,6 +194,9 @@ void register_line(CLI::App& app, CommandResult& result) {
   cmd->add_option("--orders", o->line.orders_file, "Orders file the order service takes at its start");
   cmd->add_option("--cloud-config", o->line.cloud_config,
                   "Also run `smartfactory cloud` with this cloud.yaml");
+  cmd->add_option(
+      "--historian", o->line.historian,
+      "Also run the cloud, configured for the line, into this historian (sqlite:PATH, postgresql://...)");
   cmd->add_flag("--json", o->json, "Status as JSON lines on stdout (events ready, status, stopped)");
   cmd->add_option("--status-interval", o->status_interval_s,
                   "Seconds between status views (0 = only when a process changes state)")

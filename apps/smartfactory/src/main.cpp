@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   sf::app::register_line(app, result);
 #ifdef SF_HAVE_OPCUA
   sf::app::register_orders(app, result);
+  sf::app::register_demo(app, result);
 #endif
 #endif
 #ifdef SF_HAVE_SIMULATION

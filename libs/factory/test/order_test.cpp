@@ -74,6 +74,17 @@ TEST(Order, FilesAreReadAndTheirErrorsSayWhere) {
   EXPECT_FALSE(parse_orders("orders:\n  - {box: small-box, candy: {gummy: many}}\n", catalog()));
 }
 
+TEST(Order, AGeneratedStreamWrittenAsAFileReadsBackTheSame) {
+  OrderGenerator g(catalog(), 3);
+  std::vector<Order> orders;
+  for (int i = 0; i < 20; ++i) {
+    orders.push_back(g.next());
+  }
+  auto back = parse_orders(orders_yaml(orders), catalog());
+  ASSERT_TRUE(back) << back.error().describe();
+  EXPECT_EQ(*back, orders);
+}
+
 TEST(Order, LinesBecomeLoadsIntoConsecutiveSlotsSplitAtTheVisitSize) {
   const Order o{"a", "small-box", {{"gummy", 6}, {"toffee", 2}}};
   const auto gummy = *catalog().candy_index("gummy");

@@ -61,23 +61,12 @@ void bottleneck(const Simulation& sim, const Baseline& from, RunReport& r) {
   }
 }
 
-std::chrono::nanoseconds quantile(std::vector<std::chrono::nanoseconds> v, double q) {
-  if (v.empty()) {
-    return {};
-  }
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
-  return v[std::min(i, v.size() - 1)];
-}
-
 RunReport report(const Simulation& sim, const Baseline& from) {
   RunReport r;
-  std::vector<std::chrono::nanoseconds> leads;
   for (const auto& [id, rec] : sim.host().records()) {
     ++r.submitted;
     if (rec.state == factory::OrderState::done) {
       ++r.done;
-      leads.push_back(rec.finished - rec.accepted);
     } else if (rec.state == factory::OrderState::failed) {
       ++r.failed;
     } else {
@@ -85,8 +74,8 @@ RunReport report(const Simulation& sim, const Baseline& from) {
     }
   }
   r.remade = sim.host().remade();
-  r.lead_p50 = quantile(leads, 0.5);
-  r.lead_p99 = quantile(leads, 0.99);
+  r.lead_p50 = sim.host().lead_time(0.5);
+  r.lead_p99 = sim.host().lead_time(0.99);
   r.simulated = sim.now() - from.started;
   r.wall = std::chrono::steady_clock::now() - from.wall;
   r.messages = sim.messages();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sf/factory/line_supervisor.hpp"
+#include "sf/line/ontology.hpp"
 
 namespace sf::factory {
 
@@ -140,6 +141,47 @@ Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProce
   }
   return fmt::format("# {} on the line {}, written by `smartfactory line`\n{}\n", p.name, plan.layout.line,
                      y.c_str());
+}
+
+std::string cloud_config_yaml(const LinePlan& plan) {
+  YAML::Emitter y;
+  y << YAML::BeginMap;
+  y << YAML::Key << "historian" << YAML::Value << YAML::BeginMap << YAML::Key << "url" << YAML::Value
+    << plan.options.historian << YAML::Key << "buffer" << YAML::Value
+    << fs::absolute(plan.options.run_dir / "buffer").string() << YAML::EndMap;
+  y << YAML::Key << "aggregating_server" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "host"
+    << YAML::Value << "127.0.0.1" << YAML::Key << "port" << YAML::Value << 0 << YAML::EndMap;
+  y << YAML::Key << "servers" << YAML::Value << YAML::BeginSeq;
+  for (const auto& p : plan.processes) {
+    if (p.opcua_port == 0 || p.role == LineRole::cloud) {
+      continue;
+    }
+    const bool orders = p.role == LineRole::orders;
+    y << YAML::BeginMap << YAML::Key << "name" << YAML::Value << p.name << YAML::Key << "url" << YAML::Value
+      << fmt::format("opc.tcp://127.0.0.1:{}", p.opcua_port);
+    // The order service serves None on loopback (its generated configuration); the controllers
+    // their default, secured endpoints with the installation's PKI.
+    y << YAML::Key << "security" << YAML::Value << (orders ? "none" : "auto");
+    y << YAML::Key << "subscribe" << YAML::Value << YAML::BeginSeq << YAML::Flow << YAML::BeginMap;
+    y << YAML::Key << "browse_path" << YAML::Value
+      << (orders ? std::string("/Objects/OrderService") : "/Objects/Machines/" + line::iri_name(p.name));
+    y << YAML::Key << "depth" << YAML::Value << (orders ? 1 : 3) << YAML::EndMap << YAML::EndSeq
+      << YAML::EndMap;
+  }
+  y << YAML::EndSeq << YAML::EndMap;
+  return fmt::format("# the cloud of the line {}, written by `smartfactory line`\n{}\n", plan.layout.line,
+                     y.c_str());
+}
+
+Status write_cloud_config(const LinePlan& plan) {
+  std::error_code ec;
+  fs::create_directories(plan.options.cloud_config.parent_path(), ec);
+  std::ofstream out(plan.options.cloud_config, std::ios::trunc);
+  out << cloud_config_yaml(plan);
+  if (!out.flush()) {
+    return make_error(Errc::io, fmt::format("cannot write {}", plan.options.cloud_config.string()));
+  }
+  return {};
 }
 
 Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEndpoint>& endpoints) {

@@ -98,7 +98,10 @@ Status check_options(const LineOptions& o) {
     return make_error(Errc::invalid_argument,
                       fmt::format("orders file '{}': no such file", o.orders_file.string()));
   }
-  if (!o.cloud_config.empty() && !fs::is_regular_file(o.cloud_config)) {
+  if (!o.historian.empty() && !o.cloud_config.empty()) {
+    return make_error(Errc::invalid_argument, "a cloud config or a historian for a generated one, not both");
+  }
+  if (o.historian.empty() && !o.cloud_config.empty() && !fs::is_regular_file(o.cloud_config)) {
     return make_error(Errc::invalid_argument,
                       fmt::format("cloud config '{}': no such file", o.cloud_config.string()));
   }
@@ -189,6 +192,9 @@ bool has_command(const fs::path& program, std::string_view command) {
 
 Result<LinePlan> plan_line(LineOptions options) {
   SF_TRY(check_options(options));
+  if (!options.historian.empty()) {  // the cloud's configuration is written for the line
+    options.cloud_config = options.run_dir / "config" / "cloud.yaml";
+  }
   auto layout = options.layout_file.empty() ? line::default_layout() : line::load_layout(options.layout_file);
   if (!layout) {
     return layout.error();

@@ -20,6 +20,7 @@ namespace {
 constexpr std::string_view kNamespace = "urn:smartfactory:orders";
 constexpr std::array<std::string_view, 5> kCounters{"Queued", "InWork", "Done", "Failed", "Remade"};
 constexpr std::array<std::string_view, 2> kTexts{"LastEvent", "LastInspection"};
+constexpr std::array<std::string_view, 2> kLeadTimes{"LeadTimeP50", "LeadTimeP99"};
 
 ua::NodeId node(std::uint16_t ns, std::string_view path) {
   return {ns, ua::String(fmt::format("OrderService{}{}", path.empty() ? "" : ".", path))};
@@ -65,6 +66,12 @@ Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agen
     auto spec = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
                               ua::id::UInt32, false);
     spec.value = ua::DataValue(ua::Variant(std::uint32_t{0}));
+    SF_TRY(space.add_variable(spec));
+  }
+  for (std::string_view name : kLeadTimes) {
+    auto spec = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
+                              ua::id::Double, false);
+    spec.value = ua::DataValue(ua::Variant(0.0));
     SF_TRY(space.add_variable(spec));
   }
   for (std::string_view name : kTexts) {
@@ -124,6 +131,8 @@ void OrderModel::update() {
       (void)space.set_value(node(ns_, kCounters[i]),
                             ua::DataValue(ua::Variant(static_cast<std::uint32_t>(values[i]))));
     }
+    (void)space.set_value(node(ns_, "LeadTimeP50"), ua::DataValue(ua::Variant(s.lead_p50_s)));
+    (void)space.set_value(node(ns_, "LeadTimeP99"), ua::DataValue(ua::Variant(s.lead_p99_s)));
     (void)space.set_value(node(ns_, "LastEvent"), ua::DataValue(ua::Variant(s.last_event)));
     (void)space.set_value(node(ns_, "LastInspection"), ua::DataValue(ua::Variant(s.last_inspection)));
   });

@@ -159,6 +159,18 @@ Result<std::vector<Order>> load_orders(const std::filesystem::path& file, const 
   return orders_from(config::load_file(file), catalog);
 }
 
+std::string orders_yaml(const std::vector<Order>& orders) {
+  std::string out = "orders:\n";
+  for (const auto& o : orders) {
+    std::vector<std::string> candy;
+    for (const auto& l : o.lines) {
+      candy.push_back(fmt::format("{}: {}", l.candy, l.quantity));
+    }
+    out += fmt::format("  - {{id: {}, box: {}, candy: {{{}}}}}\n", o.id, o.box_type, fmt::join(candy, ", "));
+  }
+  return out;
+}
+
 std::vector<LoadTask> load_tasks(const Order& order, const line::Catalog& catalog, int max_per_load) {
   std::vector<LoadTask> out;
   int slot = 0;

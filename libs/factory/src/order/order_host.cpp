@@ -1,6 +1,7 @@
 #include "sf/factory/order_host.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -130,6 +131,22 @@ void OrderHost::settle(const OrderAgent& agent) {
   }
   set_state(r, OrderState::failed);
   r.finished = context_.clock->now();
+}
+
+std::chrono::nanoseconds OrderHost::lead_time(double q) const {
+  std::vector<std::chrono::nanoseconds> leads;
+  for (const auto& [id, r] : records_) {
+    if (r.state == OrderState::done) {
+      leads.push_back(r.finished - r.accepted);
+    }
+  }
+  if (leads.empty()) {
+    return {};
+  }
+  const auto i =
+      static_cast<std::size_t>(std::lround(std::clamp(q, 0.0, 1.0) * static_cast<double>(leads.size() - 1)));
+  std::nth_element(leads.begin(), leads.begin() + static_cast<std::ptrdiff_t>(i), leads.end());
+  return leads[i];
 }
 
 std::size_t OrderHost::count(OrderState state) const {

@@ -42,7 +42,10 @@ struct LineOptions {
   std::string interface = "lo";
   bool order_service = true;
   std::filesystem::path orders_file;   // orders the order service takes at its start (optional)
-  std::filesystem::path cloud_config;  // empty: no cloud
+  std::filesystem::path cloud_config;  // empty: no cloud (unless `historian` is set)
+  // A historian URL (sqlite:PATH, postgresql://...): the cloud runs with a configuration written
+  // for the line (write_cloud_config: every controller's and the order service's OPC UA server).
+  std::string historian;
 };
 
 enum class LineRole : std::uint8_t { plant, machine, gateway, cloud, orders };
@@ -83,6 +86,14 @@ Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProce
                                            const std::vector<PlantEndpoint>& endpoints);
 // Writes every configuration of the run into the run directory.
 Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEndpoint>& endpoints);
+
+// The cloud's configuration for a plan with `historian` set (YAML): the historian, its store-and-
+// forward buffer in the run directory, and every OPC UA server of the line with what the cloud
+// keeps of it (a machine's PackML state, job and identification; the order service's counters,
+// events and inspections).
+std::string cloud_config_yaml(const LinePlan& plan);
+// Writes it to plan.options.cloud_config.
+Status write_cloud_config(const LinePlan& plan);
 
 // The processes for a Supervisor: argv, ready lines, and the plant's ready line writing the
 // controllers' configurations.

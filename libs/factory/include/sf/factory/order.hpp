@@ -58,6 +58,9 @@ Result<std::vector<Order>> load_orders(const std::filesystem::path& file, const 
 Result<std::vector<Order>> parse_orders(std::string_view yaml, const line::Catalog& catalog,
                                         std::string name = "<orders>");
 
+// Orders as an order file holds them (what load_orders reads back).
+std::string orders_yaml(const std::vector<Order>& orders);
+
 // One load of a candy type into consecutive slots of the box.
 struct LoadTask {
   std::size_t candy = 0;  // catalog index

@@ -58,6 +58,9 @@ class OrderHost {
 
   // How many of the accepted orders are in a state now.
   [[nodiscard]] std::size_t count(OrderState state) const;
+  // Lead time (accepted → done) of the done orders at quantile q (0..1; nearest rank); zero
+  // before the first.
+  [[nodiscard]] std::chrono::nanoseconds lead_time(double q) const;
   // Boxes made again after their attempt failed.
   [[nodiscard]] std::uint64_t remade() const { return remade_; }
   [[nodiscard]] const std::map<std::string, OrderRecord>& records() const { return records_; }

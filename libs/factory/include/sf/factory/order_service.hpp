@@ -42,6 +42,8 @@ struct OrderServiceStatus {
   std::size_t done = 0;
   std::size_t failed = 0;
   std::uint64_t remade = 0;
+  double lead_p50_s = 0.0;  // accepted → done, of the done orders
+  double lead_p99_s = 0.0;
   std::string last_event;       // "12.345 alice-1 loaded scara-robot-1 ..."
   std::string last_inspection;  // "alice-1 box 7: 53.0 g, 2 gummy, 1 toffee"
 };
@@ -91,7 +93,8 @@ class OrderServiceAgent final : public negotiation::Agent {
 
 // The service's model on an OPC UA server (namespace urn:smartfactory:orders):
 //   Objects/OrderService
-//     Queued, InWork, Done, Failed, Remade (UInt32)   LastEvent, LastInspection (String)
+//     Queued, InWork, Done, Failed, Remade (UInt32)   LeadTimeP50, LeadTimeP99 (Double, s)
+//     LastEvent, LastInspection (String)
 //     SubmitOrder(Id: String, BoxType: String, Candy: String[] "type:quantity") → OrderId: String
 // SubmitOrder answers BadInvalidArgument for an order the catalog refuses or an id taken, and
 // needs the role operator (a viewer gets BadUserAccessDenied from the server's role check).

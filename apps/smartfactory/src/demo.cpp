@@ -1,0 +1,250 @@
+// `smartfactory demo`: the candy factory as processes on this host (`smartfactory line` on the
+// default layout with the order service and the cloud writing to SQLite), fed a seeded stream of
+// generated orders; progress while it runs, a summary at the end. This file parses options and
+// prints; the factory module plans and supervises the line, the order service counts.
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "sf/core/clock.hpp"
+#include "sf/factory/line_supervisor.hpp"
+#include "sf/factory/order.hpp"
+#include "sf/opcua/client/client.hpp"
+
+namespace sf::app {
+namespace {
+
+namespace fs = std::filesystem;
+namespace fy = sf::factory;
+namespace ua = sf::opcua;
+using nlohmann::json;
+
+constexpr const char* kDemoHelp =
+    "The candy factory as processes on this host: the plant (the line's hardware), SCARA Robot 1's\n"
+    "IPC (our EtherCAT master), a gateway per PLC (Modbus), the order service (the products,\n"
+    "negotiating over DDS) and the cloud (historian in SQLite), all supervised as by\n"
+    "`smartfactory line`. A seeded stream of generated orders (box type, candy types and\n"
+    "quantities) goes to the order service; progress is printed while the line makes them and a\n"
+    "summary at the end: orders done, failed and lost, lead time p50/p99, throughput. Ends after\n"
+    "--orders are finished, after --duration seconds, or on Ctrl-C. The run directory keeps every\n"
+    "process's configuration and log and the historian (smartfactory history query --db ...).\n"
+    "Exit: 0 when every order was done, 1 when one failed or was lost, 2 on bad options.";
+
+struct DemoOptions {
+  std::size_t orders = 20;
+  double duration_s = 0;
+  std::uint64_t seed = 1;
+  std::string run_dir;
+  bool json = false;
+};
+
+struct Counts {
+  std::uint32_t queued = 0, in_work = 0, done = 0, failed = 0, remade = 0;
+  double lead_p50 = 0, lead_p99 = 0;
+  bool operator==(const Counts&) const = default;
+};
+
+// The order service's counters over its OPC UA server (OrderService.*).
+class OrderServiceView {
+ public:
+  explicit OrderServiceView(std::uint16_t port) {
+    ua::ClientConfig c;
+    c.endpoint_url = fmt::format("opc.tcp://127.0.0.1:{}", port);
+    c.session_name = "smartfactory demo";
+    client_ = std::make_unique<ua::SyncClient>(c);
+  }
+  Result<Counts> read() {
+    if (client_->state() != ua::ClientState::Connected) {
+      SF_TRY(client_->connect());
+      auto ns = client_->namespace_index("urn:smartfactory:orders");
+      if (!ns) {
+        return ns.error();
+      }
+      ns_ = *ns;
+    }
+    Counts c;
+    for (auto [name, out] : {std::pair<const char*, std::uint32_t*>{"Queued", &c.queued},
+                             {"InWork", &c.in_work},
+                             {"Done", &c.done},
+                             {"Failed", &c.failed},
+                             {"Remade", &c.remade}}) {
+      auto v = client_->read_value(node(name));
+      if (!v) {
+        return v.error();
+      }
+      *out = v->value.get_if<std::uint32_t>() ? *v->value.get_if<std::uint32_t>() : 0;
+    }
+    for (auto [name, out] :
+         {std::pair<const char*, double*>{"LeadTimeP50", &c.lead_p50}, {"LeadTimeP99", &c.lead_p99}}) {
+      auto v = client_->read_value(node(name));
+      if (!v) {
+        return v.error();
+      }
+      *out = v->value.get_if<double>() ? *v->value.get_if<double>() : 0;
+    }
+    return c;
+  }
+
+ private:
+  ua::NodeId node(std::string_view name) const {
+    return {ns_, ua::String(fmt::format("OrderService.{}", name))};
+  }
+  std::unique_ptr<ua::SyncClient> client_;
+  std::uint16_t ns_ = 0;
+};
+
+json summary_json(const Counts& c, std::size_t orders, double seconds) {
+  return {{"event", "summary"},
+          {"orders", orders},
+          {"done", c.done},
+          {"failed", c.failed},
+          {"lost", orders - std::min<std::size_t>(orders, c.done + c.failed)},
+          {"remade", c.remade},
+          {"lead_time_s", {{"p50", c.lead_p50}, {"p99", c.lead_p99}}},
+          {"boxes_per_hour", seconds > 0 ? c.done * 3600.0 / seconds : 0.0},
+          {"seconds", seconds}};
+}
+
+Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
+  fy::LineOptions line;
+  line.run_dir = run_dir;
+  std::error_code ec;
+  line.program = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) {
+    return make_error(Errc::io, fmt::format("cannot find this program: {}", ec.message()));
+  }
+  line.opcua_base_port = 0;
+  line.historian = fmt::format("sqlite:{}", fs::absolute(run_dir / "history.db").string());
+  line.orders_file = run_dir / "orders.yaml";
+  auto layout = line::default_layout();
+  if (!layout) {
+    return layout.error();
+  }
+  fy::OrderGenerator generator(layout->catalog, o.seed, "demo");
+  std::vector<fy::Order> orders;
+  for (std::size_t i = 0; i < o.orders; ++i) {
+    orders.push_back(generator.next());
+  }
+  fs::create_directories(run_dir, ec);
+  std::ofstream(line.orders_file) << fy::orders_yaml(orders);
+  auto p = fy::plan_line(line);
+  if (!p) {
+    return p.error();
+  }
+  SF_TRY(fy::write_cloud_config(*p));
+  return p;
+}
+
+int run_demo(const DemoOptions& o) {
+  if (o.orders == 0) {
+    std::cerr << "demo: --orders must be at least 1\n";
+    return kExitUsage;
+  }
+  fs::path run_dir = o.run_dir;
+  if (run_dir.empty()) {
+    std::string tmpl = (fs::temp_directory_path() / "smartfactory-demo-XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr) {
+      std::cerr << "demo: cannot make a run directory\n";
+      return kExitFailure;
+    }
+    run_dir = tmpl;
+  }
+  auto p = plan(o, run_dir);
+  if (!p) {
+    std::cerr << "demo: " << p.error().message << "\n";
+    return kExitUsage;
+  }
+  std::cerr << fmt::format("demo: {} orders on the line {}; {} processes; run directory {}\n", o.orders,
+                           p->layout.line, p->processes.size(), run_dir.string());
+  install_stop_signals();
+  auto& clock = SteadyClock::instance();
+  fy::Supervisor supervisor(fy::supervised_processes(*p), fy::line_supervisor_options(*p), clock);
+  if (auto st = supervisor.start(stop_requested); !st) {
+    std::cerr << "demo: " << st.error().message << "\n";
+    return stop_requested() ? kExitOk : kExitFailure;
+  }
+  std::uint16_t port = 0;
+  for (const auto& proc : p->processes) {
+    port = proc.role == fy::LineRole::orders ? proc.opcua_port : port;
+  }
+  std::cerr << "demo: the line is up; orders go in\n";
+  OrderServiceView view(port);
+  const auto started = clock.now();
+  const auto limit =
+      o.duration_s > 0
+          ? std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.duration_s))
+          : Clock::duration::max();
+  Counts last{};
+  Counts now{};
+  auto next_read = started;
+  bool finished = false;
+  supervisor.run([&] { return stop_requested() || finished || clock.now() - started >= limit; },
+                 [&] {
+                   if (clock.now() < next_read) {
+                     return;
+                   }
+                   next_read = clock.now() + std::chrono::seconds{1};
+                   auto c = view.read();
+                   if (!c) {
+                     return;  // the service restarting: asked again in a second
+                   }
+                   now = *c;
+                   finished = now.done + now.failed >= o.orders;
+                   if (now == last) {
+                     return;
+                   }
+                   last = now;
+                   const double t = std::chrono::duration<double>(clock.now() - started).count();
+                   if (o.json) {
+                     std::cout << json{{"event", "progress"},    {"t", t},
+                                       {"done", now.done},       {"failed", now.failed},
+                                       {"in_work", now.in_work}, {"queued", now.queued}}
+                                      .dump()
+                               << std::endl;
+                   } else {
+                     std::cout << fmt::format("{:7.1f} s  {} done, {} failed, {} in work, {} queued\n", t,
+                                              now.done, now.failed, now.in_work, now.queued)
+                               << std::flush;
+                   }
+                 });
+  const double seconds = std::chrono::duration<double>(clock.now() - started).count();
+  supervisor.stop();
+  const json s = summary_json(now, o.orders, seconds);
+  if (o.json) {
+    std::cout << s.dump() << std::endl;
+  } else {
+    std::cout << fmt::format(
+        "orders: {} done, {} failed, {} lost of {} ({} boxes remade)\n"
+        "lead time: p50 {:.1f} s, p99 {:.1f} s\nthroughput: {:.1f} boxes/hour\n"
+        "run directory: {} (logs, configurations; historian {}/history.db)\n",
+        now.done, now.failed, s["lost"].get<std::size_t>(), o.orders, now.remade, now.lead_p50, now.lead_p99,
+        s["boxes_per_hour"].get<double>(), run_dir.string(), run_dir.string());
+  }
+  return now.failed == 0 && now.done >= o.orders ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void register_demo(CLI::App& app, CommandResult& result) {
+  auto o = std::make_shared<DemoOptions>();
+  auto* cmd = app.add_subcommand("demo", "The candy factory as processes on this host, fed generated orders");
+  cmd->add_option("--orders", o->orders, "Orders to make")->capture_default_str();
+  cmd->add_option("--duration", o->duration_s, "Stop after this many seconds (0 = when the orders are made)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", o->seed, "Seed of the order stream")->capture_default_str();
+  cmd->add_option("--run-dir", o->run_dir,
+                  "Where configurations, logs and the historian go (default: a new temp dir)");
+  cmd->add_flag("--json", o->json, "Progress and summary as JSON lines");
+  cmd->footer(kDemoHelp);
+  cmd->callback([o, &result] { result.exit_code = run_demo(*o); });
+}
+
+}  // namespace sf::app

@@ -130,6 +130,7 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   }
   fy::OrderGenerator generator(layout->catalog, o.seed, "demo");
   std::vector<fy::Order> orders;
+  orders.reserve(o.orders);
   for (std::size_t i = 0; i < o.orders; ++i) {
     orders.push_back(generator.next());
   }

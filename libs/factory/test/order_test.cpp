@@ -77,6 +77,7 @@ TEST(Order, FilesAreReadAndTheirErrorsSayWhere) {
 TEST(Order, AGeneratedStreamWrittenAsAFileReadsBackTheSame) {
   OrderGenerator g(catalog(), 3);
   std::vector<Order> orders;
+  orders.reserve(20);
   for (int i = 0; i < 20; ++i) {
     orders.push_back(g.next());
   }

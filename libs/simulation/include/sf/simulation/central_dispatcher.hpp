@@ -63,7 +63,7 @@ class CentralDispatcher final : public factory::ProductDecisions {
 
  private:
   struct Machine {
-    factory::MachineController* controller;
+    factory::MachineController* controller = nullptr;
     std::vector<std::string> operations;
     std::function<factory::ConveyorOffer()> offer;
   };

@@ -19,10 +19,6 @@
 namespace sf::app {
 namespace {
 
-using nlohmann::json;
-namespace fy = sf::factory;
-namespace ua = sf::opcua;
-
 constexpr const char* kOrdersHelp =
     "The order service (paper §VII): consumers' orders become products that negotiate their\n"
     "way through the line over DDS: a box of the order's type from the uploader, each candy\n"
@@ -45,6 +41,10 @@ constexpr const char* kOrderHelp =
     "than the box holds are refused with the offending line named and exit status 2.\n"
     "  smartfactory order --box small-box --candy gummy:4 --candy toffee:8\n"
     "  smartfactory order --file orders.yaml";
+
+using nlohmann::json;
+namespace fy = sf::factory;
+namespace ua = sf::opcua;
 
 struct ServiceOptions {
   std::string config;
@@ -101,13 +101,18 @@ int run_service(const ServiceOptions& o) {
       },
       [&](const fy::OrderServiceStatus& s) {
         if (o.json) {
-          std::cout << json{{"event", "status"}, {"queued", s.queued}, {"in_work", s.in_work},
-                            {"done", s.done},    {"failed", s.failed}, {"remade", s.remade}}
+          std::cout << json{{"event", "status"},
+                            {"queued", s.count(fy::OrderState::queued)},
+                            {"in_work", s.count(fy::OrderState::in_work)},
+                            {"done", s.count(fy::OrderState::done)},
+                            {"failed", s.count(fy::OrderState::failed)},
+                            {"remade", s.remade}}
                            .dump()
                     << std::endl;
         } else {
           std::cout << fmt::format("orders: {} queued, {} in work, {} done, {} failed ({} remade)\n",
-                                   s.queued, s.in_work, s.done, s.failed, s.remade)
+                                   s.count(fy::OrderState::queued), s.count(fy::OrderState::in_work),
+                                   s.count(fy::OrderState::done), s.count(fy::OrderState::failed), s.remade)
                     << std::flush;
         }
       },

@@ -125,14 +125,16 @@ Result<std::unique_ptr<OrderModel>> OrderModel::attach(srv::Server& server, Orde
 
 void OrderModel::update() {
   const OrderServiceStatus s = agent_->status();
-  const std::array<std::uint64_t, kCounters.size()> values{s.queued, s.in_work, s.done, s.failed, s.remade};
+  const std::array<std::uint64_t, kCounters.size()> values{
+      s.count(OrderState::queued), s.count(OrderState::in_work), s.count(OrderState::done),
+      s.count(OrderState::failed), s.remade};
   server_->with_address_space([&](srv::AddressSpace& space) {
     for (std::size_t i = 0; i < kCounters.size(); ++i) {
       (void)space.set_value(node(ns_, kCounters[i]),
                             ua::DataValue(ua::Variant(static_cast<std::uint32_t>(values[i]))));
     }
-    (void)space.set_value(node(ns_, "LeadTimeP50"), ua::DataValue(ua::Variant(s.lead_p50_s)));
-    (void)space.set_value(node(ns_, "LeadTimeP99"), ua::DataValue(ua::Variant(s.lead_p99_s)));
+    (void)space.set_value(node(ns_, "LeadTimeP50"), ua::DataValue(ua::Variant(s.lead_s[0])));
+    (void)space.set_value(node(ns_, "LeadTimeP99"), ua::DataValue(ua::Variant(s.lead_s[1])));
     (void)space.set_value(node(ns_, "LastEvent"), ua::DataValue(ua::Variant(s.last_event)));
     (void)space.set_value(node(ns_, "LastInspection"), ua::DataValue(ua::Variant(s.last_inspection)));
   });

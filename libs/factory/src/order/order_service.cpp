@@ -87,15 +87,14 @@ std::optional<Clock::time_point> OrderServiceAgent::next_deadline() const {
 
 void OrderServiceAgent::publish() {
   std::lock_guard lock(mutex_);
-  const std::size_t done_before = status_.done;
-  status_.queued = host_->count(OrderState::queued);
-  status_.in_work = host_->count(OrderState::in_work);
-  status_.done = host_->count(OrderState::done);
-  status_.failed = host_->count(OrderState::failed);
+  const std::size_t done_before = status_.count(OrderState::done);
+  for (auto state : {OrderState::queued, OrderState::in_work, OrderState::done, OrderState::failed}) {
+    status_.orders.at(static_cast<std::size_t>(state)) = host_->count(state);
+  }
   status_.remade = host_->remade();
-  if (status_.done != done_before) {  // lead times change only when an order is done
-    status_.lead_p50_s = std::chrono::duration<double>(host_->lead_time(0.5)).count();
-    status_.lead_p99_s = std::chrono::duration<double>(host_->lead_time(0.99)).count();
+  if (status_.count(OrderState::done) != done_before) {  // lead times change only when one is done
+    status_.lead_s = {std::chrono::duration<double>(host_->lead_time(0.5)).count(),
+                      std::chrono::duration<double>(host_->lead_time(0.99)).count()};
   }
 }
 

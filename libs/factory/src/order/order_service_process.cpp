@@ -1,6 +1,7 @@
 // The `orders` process (order_service.hpp): its configuration, the agent on DDS and its model on
 // its own OPC UA server.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "sf/core/config.hpp"
 #include "sf/factory/controller_process.hpp"
@@ -119,7 +120,7 @@ void OrderServiceProcess::run(const std::function<bool()>& stop,
       *clock_,
       [this] {
         const auto s = agent_->status();
-        return fmt::format("{} {} {}", s.done, s.failed, s.in_work);
+        return fmt::format("{}", fmt::join(s.orders, " "));
       },
       [&] {
         model_->update();

@@ -11,6 +11,7 @@
 // (OrderModel), where the cloud reads them like any machine's model.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <deque>
 #include <filesystem>
@@ -37,13 +38,12 @@ namespace sf::factory {
 
 // What the service's OPC UA model and status line show, copied out of the loop.
 struct OrderServiceStatus {
-  std::size_t queued = 0;
-  std::size_t in_work = 0;
-  std::size_t done = 0;
-  std::size_t failed = 0;
+  std::array<std::size_t, 4> orders{};  // by OrderState (queued, in work, done, failed)
   std::uint64_t remade = 0;
-  double lead_p50_s = 0.0;  // accepted → done, of the done orders
-  double lead_p99_s = 0.0;
+  std::array<double, 2> lead_s{};  // lead time (accepted → done) p50 and p99, of the done orders
+  [[nodiscard]] std::size_t count(OrderState state) const {
+    return orders.at(static_cast<std::size_t>(state));
+  }
   std::string last_event;       // "12.345 alice-1 loaded scara-robot-1 ..."
   std::string last_inspection;  // "alice-1 box 7: 53.0 g, 2 gummy, 1 toffee"
 };

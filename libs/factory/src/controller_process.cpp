@@ -8,19 +8,28 @@
 
 namespace sf::factory {
 
+Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerSettings& settings,
+                                                               Clock& clock, std::string& security) {
+  opcua::server::ServerConfig config;
+  config.transport.port = settings.opcua_port;
+  config.identity.application_name = fmt::format("smartfactory {}", settings.machine);
+  auto configured = opcua::server::configure_server_security(settings.opcua_security, false, config);
+  if (!configured) {
+    return Error(configured.error()).with_context("OPC UA security");
+  }
+  security = *configured;
+  return std::make_unique<opcua::server::Server>(std::move(config), clock);
+}
+
 Result<std::unique_ptr<ModelServer>> ModelServer::start(const ControllerSettings& settings,
                                                         ControllerThread& thread,
                                                         const Identification& identification, Clock& clock) {
   std::unique_ptr<ModelServer> m(new ModelServer());
-  opcua::server::ServerConfig config;
-  config.transport.port = settings.opcua_port;
-  config.identity.application_name = fmt::format("smartfactory {}", settings.machine);
-  auto security = opcua::server::configure_server_security(settings.opcua_security, false, config);
-  if (!security) {
-    return Error(security.error()).with_context("OPC UA security");
+  auto server = settings_server(settings, clock, m->security_);
+  if (!server) {
+    return server.error();
   }
-  m->security_ = *security;
-  m->server_ = std::make_unique<opcua::server::Server>(std::move(config), clock);
+  m->server_ = std::move(*server);
   Status imported;
   m->server_->with_address_space([&](opcua::server::AddressSpace& space) {
     auto reports = opcua::server::import_nodeset_files(space, settings.opcua_nodesets);

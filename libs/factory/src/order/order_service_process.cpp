@@ -6,8 +6,6 @@
 #include "sf/core/config.hpp"
 #include "sf/factory/controller_process.hpp"
 #include "sf/factory/order_service.hpp"
-#include "sf/opcua/server/nodeset.hpp"
-#include "sf/opcua/server/security_setup.hpp"
 #include "sf/opcua/server/server.hpp"
 
 namespace sf::factory {
@@ -80,15 +78,11 @@ Result<std::unique_ptr<OrderServiceProcess>> OrderServiceProcess::create(OrderSe
   for (auto& o : p->setup_.orders) {
     SF_TRY(p->agent_->submit(o));
   }
-  opcua::server::ServerConfig config;
-  config.transport.port = c.opcua_port;
-  config.identity.application_name = "smartfactory order service";
-  auto security = opcua::server::configure_server_security(c.opcua_security, false, config);
-  if (!security) {
-    return Error(security.error()).with_context("OPC UA security");
+  auto server = settings_server(c, clock, p->security_);
+  if (!server) {
+    return server.error();
   }
-  p->security_ = *security;
-  p->server_ = std::make_unique<opcua::server::Server>(std::move(config), clock);
+  p->server_ = std::move(*server);
   auto model = OrderModel::attach(*p->server_, *p->agent_);
   if (!model) {
     return model.error();

@@ -20,6 +20,12 @@
 
 namespace sf::factory {
 
+// An OPC UA server from a process's `opcua:` settings (port, security, users), not started yet;
+// `security` is what its security came to (policies, modes, users). The controllers' ModelServer
+// and the order service start theirs from here.
+Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerSettings& settings,
+                                                               Clock& clock, std::string& security);
+
 // A controller's OPC UA server from its `opcua:` settings (port, security, users, the
 // ontology's NodeSet2 files, imported first so the machine object is its individual), with
 // the model of the controller `thread` drives (MachineHost), serving. Declare it after the

@@ -156,10 +156,22 @@ Status Master::static_drift_compensation() {
   const auto& ref = slaves_[*dc_reference_];
   const Bytes time(8, 0);
   auto next = clock_.now();
+  // Each FRMW is one sample for the slaves' drift filters (ETG.1000.4 §9.1.3.6): a lost one is
+  // not sent again and costs nothing but that sample. Only a reference that stops answering
+  // for a while (many frames in a row) ends the bring-up.
+  std::size_t lost_in_row = 0;
   for (std::size_t i = 0; i < options_.dc_static_drift_frames; ++i) {
-    auto wkc = bus_.write(Command::FRMW, Datagram::physical(ref.station, reg::kDcSystemTime), time);
-    if (!wkc) {
-      return wkc.error().with_context("DC static drift compensation");
+    Datagram d;
+    d.command = Command::FRMW;
+    d.address = Datagram::physical(ref.station, reg::kDcSystemTime);
+    d.data = time;
+    std::array<Datagram, 1> one{std::move(d)};
+    if (auto st = bus_.transceive(one, 0); st.ok()) {
+      lost_in_row = 0;
+    } else if (st.error().code != Errc::timeout || ++lost_in_row > options_.dc_static_drift_max_lost_in_row) {
+      return st.error().with_context(
+          fmt::format("DC static drift compensation (frame {} of {}, {} lost in a row)", i + 1,
+                      options_.dc_static_drift_frames, lost_in_row));
     }
     next += options_.dc_static_drift_interval;
     clock_.sleep_until(next);

@@ -96,5 +96,71 @@ TEST(DistributedClocksSync0, Sync0PulsesStartTogether) {
   EXPECT_NEAR(static_cast<double>(b.segment->slave(1).sync0_events()), static_cast<double>(first), 2.0);
 }
 
+// Loses FRMW frames (the drift compensation's) in bursts: `burst` in a row out of every `every`,
+// as a master on a loaded host sees when the answers come after its frame timeout.
+class FrmwBurstLoss final : public Link {
+ public:
+  FrmwBurstLoss(Link& inner, std::size_t burst, std::size_t every)
+      : inner_(inner), burst_(burst), every_(every) {}
+  Status send(ByteSpan frame) override {
+    const std::size_t command_at = kEthernetHeaderSize + kEcatHeaderSize;
+    const bool frmw =
+        frame.size() > command_at && frame[command_at] == static_cast<std::uint8_t>(Command::FRMW);
+    if (lossy && frmw && frmw_sent_++ % every_ < burst_) {
+      ++lost;
+      return {};
+    }
+    return inner_.send(frame);
+  }
+  Result<std::size_t> receive(MutableByteSpan buf, std::chrono::nanoseconds timeout) override {
+    return inner_.receive(buf, timeout);
+  }
+  [[nodiscard]] MacAddress mac() const override { return inner_.mac(); }
+  [[nodiscard]] std::string name() const override { return "frmw-burst-loss"; }
+  bool lossy = true;
+  std::size_t lost = 0;
+
+ private:
+  Link& inner_;
+  std::size_t burst_;
+  std::size_t every_;
+  std::size_t frmw_sent_ = 0;
+};
+
+TEST(DistributedClocksDrift, LostCompensationFramesCostOnlyTheirSamples) {
+  // Bursts longer than the bus's resends (3) used to end the bring-up.
+  slave::SegmentOptions so;
+  so.drift_spread_ppm = 80.0;
+  so.seed = 7;
+  Bench b("servo:3", quick_options(), so);
+  FrmwBurstLoss lossy(*b.link, 6, 400);
+  Master master(lossy, b.clock, quick_options());
+  auto st = master.bring_up();
+  ASSERT_TRUE(st.ok()) << st.error().describe();
+  EXPECT_GE(lossy.lost, 6U * (2000 / 400));
+  lossy.lossy = false;
+  for (int i = 0; i < 2000; ++i) {
+    b.clock.advance(std::chrono::milliseconds{1});
+    ASSERT_TRUE(master.exchange().ok()) << "cycle " << i;
+    master.maintain();
+  }
+  for (std::size_t p = 0; p < master.slave_count(); ++p) {
+    auto diff = master.read_dc_difference(p);
+    ASSERT_TRUE(diff.ok()) << diff.error().describe();
+    EXPECT_LT(std::abs(*diff), 1000) << "slave " << p << " 0x092C = " << *diff << " ns";
+  }
+}
+
+TEST(DistributedClocksDrift, AReferenceThatStopsAnsweringEndsTheBringUp) {
+  Bench b("servo:2");
+  FrmwBurstLoss silent(*b.link, 1, 1);  // every FRMW lost
+  Master master(silent, b.clock, quick_options());
+  auto st = master.bring_up();
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().code, Errc::timeout);
+  EXPECT_NE(st.error().message.find("DC static drift compensation"), std::string::npos) << st.error().message;
+  EXPECT_NE(st.error().message.find("51 lost in a row"), std::string::npos) << st.error().message;
+}
+
 }  // namespace
 }  // namespace sf::ethercat::master::test

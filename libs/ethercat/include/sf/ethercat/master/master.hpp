@@ -64,6 +64,9 @@ struct MasterOptions {
   std::size_t dc_static_drift_frames = 15000;
   // Time between two static drift compensation frames.
   std::chrono::nanoseconds dc_static_drift_interval{std::chrono::microseconds{100}};
+  // Static drift compensation skips lost frames (a sample less); this many lost in a row (each
+  // after the bus's frame timeout) mean the reference is gone.
+  std::size_t dc_static_drift_max_lost_in_row = 50;
   // SYNC0 cycle (0 = do not activate SYNC0); start after sync0_start_delay.
   std::chrono::nanoseconds sync0_cycle{0};
   std::chrono::nanoseconds sync0_start_delay{std::chrono::milliseconds{100}};

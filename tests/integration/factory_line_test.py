@@ -159,7 +159,7 @@ def main():
             endpoint = ready["orders"]["opcua"]
             check_dds_layout()
             wait_for(lambda: (counter(endpoint, "Done") or 0) + (counter(endpoint, "Failed") or 0) >= ORDERS, 900,
-                     f"{ORDERS} orders finished")
+                     f"{ORDERS} orders finished", interval=3)
             check(counter(endpoint, "Done") == ORDERS and counter(endpoint, "Failed") == 0,
                   f"every order done: {counter(endpoint, 'Done')} done, {counter(endpoint, 'Failed')} failed")
             check(counter(endpoint, "Remade") == 0 and counter(endpoint, "InWork") == 0,

@@ -76,7 +76,7 @@ def order_taken(endpoint):
     check(order_counter(endpoint, "Done") == 0, f"the order service's OPC UA server {endpoint} answers")
     run([binary(), "order", "--server", endpoint, "--id", "line-test-1", "--box", "small-box",
          "--candy", "gummy:1"])
-    wait_for(lambda: order_counter(endpoint, "Done") == 1, 180, "the order made by the line")
+    wait_for(lambda: order_counter(endpoint, "Done") == 1, 180, "the order made by the line", interval=2)
     check(order_counter(endpoint, "Failed") == 0, "the line made the order")
 
 

@@ -189,10 +189,11 @@ class VethPair:
         return False
 
 
-def wait_for(predicate, timeout, what):
+def wait_for(predicate, timeout, what, interval=0.1):
+    """Polls predicate every `interval` s (a predicate that starts processes wants a long one)."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         if predicate():
             return
-        time.sleep(0.1)
+        time.sleep(interval)
     fail(f"timed out after {timeout}s waiting for {what}")

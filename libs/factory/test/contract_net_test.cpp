@@ -94,18 +94,51 @@ TEST_F(ContractNetTest, AwardedWorkIsAJobAndItsEndTheReport) {
   contractor->on_announce(announce("c1"));
   contractor->on_manager_message(award("c1"));
   ASSERT_EQ(controller.submitted.size(), 1U);
-  EXPECT_EQ(controller.submitted[0].first, "c1");
+  EXPECT_EQ(controller.submitted[0].first, "c1#1");
   EXPECT_EQ(controller.submitted[0].second.param("box"), 1.0);
-  controller.end("c1", true, "2 toffee in slots 4-5");
+  controller.end("c1#1", true, "2 toffee in slots 4-5");
   EXPECT_EQ(std::get<negotiation::InformDone>(transport.sent.back().body).result, "2 toffee in slots 4-5");
   contractor->on_announce(announce("c2"));
   contractor->on_manager_message(award("c2"));
-  controller.end("c2", false, "dispenser empty");
+  controller.end("c2#1", false, "dispenser empty");
   EXPECT_EQ(std::get<negotiation::Failure>(transport.sent.back().body).reason, "dispenser empty");
   contractor->on_announce(announce("c3"));
   contractor->on_manager_message(award("c3"));
   contractor->on_manager_message({"c3", "box-1", "load", "toshiba", 1, negotiation::Cancel{1, "lapsed"}});
-  EXPECT_EQ(controller.cancelled, std::vector<std::string>{"c3"});
+  EXPECT_EQ(controller.cancelled, std::vector<std::string>{"c3#1"});
+}
+
+TEST_F(ContractNetTest, AReAwardOfTheSameConversationIsAJobOfItsOwn) {
+  // Award 1 is withdrawn while the controller still winds its job down; the renegotiation
+  // awards this machine again (round 2, award 2).
+  contractor->on_announce(announce("c4"));
+  contractor->on_manager_message(award("c4"));
+  contractor->on_manager_message(
+      {"c4", "box-1", "load", "toshiba", 1, negotiation::Cancel{1, "contractor lost"}});
+  auto again = announce("c4");
+  again.round = 2;
+  contractor->on_announce(again);
+  contractor->on_manager_message(
+      {"c4", "box-1", "load", "toshiba", 2, negotiation::Award{2, clock.utc_now() + 50ms}});
+  ASSERT_EQ(controller.submitted.size(), 2U);
+  EXPECT_EQ(controller.submitted[1].first, "c4#2");
+  const auto sent = transport.sent.size();
+  controller.end("c4#1", false, "cancelled");  // the old job's end: not the new award's
+  EXPECT_EQ(transport.sent.size(), sent);
+  controller.end("c4#2", true, "2 toffee in slots 4-5");
+  const auto& done = std::get<negotiation::InformDone>(transport.sent.back().body);
+  EXPECT_EQ(done.award_id, 2U);
+}
+
+TEST(JobId, NamesTheConversationAndTheAward) {
+  negotiation::Job job;
+  job.conversation = "it-7.1/load/aff3b6.12";
+  job.award_id = 3;
+  EXPECT_EQ(job_id(job), "it-7.1/load/aff3b6.12#3");
+  EXPECT_EQ(parse_job_id(job_id(job)), (std::pair<std::string, std::uint32_t>{job.conversation, 3}));
+  for (const char* bad : {"j1", "#3", "c#", "c#x", "c#3x", "c#99999999999"}) {
+    EXPECT_FALSE(parse_job_id(bad)) << bad;
+  }
 }
 
 }  // namespace

@@ -253,6 +253,19 @@ Status Contractor::report(const std::string& conversation, bool ok, const std::s
   return {};
 }
 
+Status Contractor::report(const std::string& conversation, std::uint32_t award_id, bool ok,
+                          const std::string& detail, std::vector<Param> results) {
+  auto it = std::find_if(jobs_.begin(), jobs_.end(), [&](const Job& j) {
+    return j.conversation == conversation && j.award_id == award_id;
+  });
+  if (it == jobs_.end()) {
+    return make_error(Errc::not_found, fmt::format("{} has no job for award {} in conversation {}",
+                                                   config_.name, award_id, conversation));
+  }
+  end_job(it, ok, detail, std::move(results));
+  return {};
+}
+
 void Contractor::end_job(const std::deque<Job>::iterator& it, bool ok, const std::string& detail,
                          std::vector<Param> results) {
   const Job job = *it;

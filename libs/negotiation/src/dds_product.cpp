@@ -108,13 +108,21 @@ void ProductEndpoints::Impl::on_bid(ProductOp& op, const sf_cnp_ContractorMessag
 }
 
 void ProductEndpoints::Impl::on_liveliness(ProductOp& op, const dds::LivelinessChangedStatus& st) {
-  // alive_count down: the writer stopped asserting liveliness or went away.
-  if (st.alive_count_change >= 0) {
+  // alive_count down: the writer stopped asserting liveliness or went away; up: a writer that
+  // had lost it asserts it again (or a new one matched, unknown until it bids).
+  if (st.alive_count_change == 0) {
     return;
   }
   auto it = op.bidders.find(st.last_publication_handle);
   if (it == op.bidders.end()) {
     return;  // a contractor that never spoke to us
+  }
+  if (st.alive_count_change > 0) {
+    log->info("{}: contractor {} is alive again", bid_topic(op.operation), it->second);
+    if (inbox != nullptr) {
+      inbox->on_contractor_alive(op.operation, it->second);
+    }
+    return;
   }
   log->info("{}: contractor {} lost liveliness", bid_topic(op.operation), it->second);
   if (inbox != nullptr) {

@@ -178,7 +178,7 @@ void Manager::on_timer(Conversation& c) {
       start_round(c);
       break;
     case Phase::Working:
-      renegotiate(c, "no INFORM-DONE within the work timeout");
+      on_work_timer(c);
       break;
     case Phase::Done:
     case Phase::Failed:
@@ -444,10 +444,39 @@ void Manager::on_contractor_lost(const std::string& operation, const std::string
     } else if (awardee && c->phase == Phase::Directing) {
       withdraw(*c, "contractor lost");
       start_round(*c);
+    } else if (awardee && c->phase == Phase::Working && config_.lost_grace.count() > 0) {
+      log_->info("{}: worker {} lost; waiting {} ms for it to come back", c->id, contractor,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(config_.lost_grace).count());
+      set_timer(*c, std::min(c->timer, clock_->now() + config_.lost_grace));
     } else if (awardee && c->phase == Phase::Working) {
       renegotiate(*c, fmt::format("contractor {} lost", contractor));
     }
   }
+}
+
+void Manager::on_contractor_alive(const std::string& operation, const std::string& contractor) {
+  for (auto& [id, c] : conversations_) {
+    if (c.operation == operation && c.lost.erase(contractor) > 0 && c.contractor == contractor &&
+        c.phase == Phase::Working) {
+      log_->info("{}: worker {} is back", c.id, contractor);
+    }
+  }
+}
+
+// The Working timer: the lost grace of the worker or the work timeout, whichever came first. A
+// worker back in time (on_contractor_alive, or a message from it) keeps its work.
+void Manager::on_work_timer(Conversation& c) {
+  if (c.lost.contains(c.contractor)) {
+    renegotiate(c, fmt::format("contractor {} lost", c.contractor));
+    return;
+  }
+  const auto work_deadline =
+      config_.work_timeout.count() > 0 ? c.confirmed_at + config_.work_timeout : Clock::time_point::max();
+  if (clock_->now() >= work_deadline) {
+    renegotiate(c, "no INFORM-DONE within the work timeout");
+    return;
+  }
+  set_timer(c, work_deadline);
 }
 
 void Manager::ignore(const ContractorMessage& m, std::string_view reason, bool expected) {

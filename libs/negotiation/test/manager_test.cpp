@@ -303,6 +303,62 @@ TEST_F(ManagerTest, LostAwardeeIsSkippedAndLostWorkerTriggersRenegotiation) {
   EXPECT_EQ(done, std::vector<std::string>{"M3"});
 }
 
+TEST_F(ManagerTest, ALostWorkerThatComesBackWithinItsGraceKeepsItsWork) {
+  auto cfg = config();
+  cfg.lost_grace = 2s;
+  cfg.work_timeout = 10s;
+  Manager m{transport, clock, cfg};
+  transport.listening = 2;
+  const auto id = start(m);
+  m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
+  m.on_contractor_message(from(id, "M2", 1, bid_at(clock, 20ms)));  // both answered: M1 awarded
+  m.on_contractor_message(from(id, "M1", 1, Confirm{1}));
+  const auto sent = transport.sent.size();
+  // Liveliness lost, regained a second later: no CANCEL, no new round, not even after the grace.
+  m.on_contractor_lost("OP1", "M1");
+  advance(1s, m);
+  m.on_contractor_alive("OP1", "M1");
+  advance(2s, m);
+  EXPECT_EQ(transport.sent.size(), sent);
+  EXPECT_EQ(transport.announces.size(), 1U);
+  EXPECT_EQ(m.find(id)->phase, Phase::Working);
+  // Lost again, and its INFORM-DONE within the grace is the proof of life.
+  m.on_contractor_lost("OP1", "M1");
+  advance(1500ms, m);
+  m.on_contractor_message(from(id, "M1", 1, InformDone{1, "ok"}));
+  EXPECT_EQ(done, std::vector<std::string>{"M1"});
+  EXPECT_EQ(m.stats().renegotiations, 0U);
+}
+
+TEST_F(ManagerTest, ALostWorkerNotBackWithinItsGraceIsReplacedAndTheWorkTimeoutStillHolds) {
+  auto cfg = config();
+  cfg.lost_grace = 2s;
+  cfg.work_timeout = 3s;
+  Manager m{transport, clock, cfg};
+  transport.listening = 1;
+  const auto id = start(m);
+  m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
+  m.on_contractor_message(from(id, "M1", 1, Confirm{1}));
+  m.on_contractor_lost("OP1", "M1");
+  advance(1999ms, m);
+  EXPECT_EQ(transport.announces.size(), 1U);
+  advance(1ms, m);
+  ASSERT_EQ(transport.announces.size(), 2U);
+  EXPECT_TRUE(std::holds_alternative<Cancel>(transport.sent.back().body));
+  EXPECT_EQ(transport.sent.back().contractor, "M1");
+
+  // A worker back in time still has to finish within the work timeout.
+  m.on_contractor_message(from(id, "M1", 2, bid_at(clock, 10ms)));
+  m.on_contractor_message(from(id, "M1", 2, Confirm{2}));
+  m.on_contractor_lost("OP1", "M1");
+  advance(500ms, m);
+  m.on_contractor_alive("OP1", "M1");
+  advance(2499ms, m);
+  EXPECT_EQ(transport.announces.size(), 2U);
+  advance(1ms, m);
+  EXPECT_EQ(transport.announces.size(), 3U);
+}
+
 TEST_F(ManagerTest, LostBidderIsNotAwarded) {
   Manager m{transport, clock, config()};
   transport.listening = 3;

@@ -95,7 +95,7 @@ struct Simulation::Parts {
     return o;
   }
   static cnp::ManagerConfig manager_config() {
-    cnp::ManagerConfig c;
+    cnp::ManagerConfig c = factory::product_manager_config();
     c.incarnation = 0x5100;  // fixed: conversation ids repeat from run to run
     return c;
   }

@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <charconv>
+
 #include "sf/core/log.hpp"
 #include "sf/factory/contract_net.hpp"
 
@@ -24,12 +26,35 @@ std::vector<negotiation::Param> to_params(const std::map<std::string, double>& r
   return out;
 }
 
+std::string job_id(const negotiation::Job& job) {
+  return fmt::format("{}#{}", job.conversation, job.award_id);
+}
+
+std::optional<std::pair<std::string, std::uint32_t>> parse_job_id(const std::string& id) {
+  const auto hash = id.rfind('#');
+  if (hash == std::string::npos || hash == 0 || hash + 1 == id.size()) {
+    return std::nullopt;
+  }
+  std::uint32_t award = 0;
+  const char* first = id.data() + hash + 1;
+  const char* last = id.data() + id.size();
+  if (auto [end, ec] = std::from_chars(first, last, award); ec != std::errc{} || end != last) {
+    return std::nullopt;
+  }
+  return std::pair{id.substr(0, hash), award};
+}
+
 ControllerBackend::ControllerBackend(MachineController& controller) : controller_(&controller) {
   controller_->on_job_end([this](const JobOutcome& outcome) {
     if (contractor_ == nullptr) {
       return;
     }
-    if (auto st = contractor_->report(outcome.job, outcome.ok, outcome.detail, to_params(outcome.results));
+    const auto award = parse_job_id(outcome.job);
+    if (!award) {
+      return;  // not a job of the Contract Net (an operator's, a test's)
+    }
+    if (auto st = contractor_->report(award->first, award->second, outcome.ok, outcome.detail,
+                                      to_params(outcome.results));
         !st) {
       log::get("factory")->warn("{}: {}", controller_->identification().name, st.error().message);
     }
@@ -46,13 +71,13 @@ std::optional<negotiation::WorkEstimate> ControllerBackend::estimate(
 }
 
 Status ControllerBackend::start(const negotiation::Job& job, const std::vector<negotiation::Param>& params) {
-  return controller_->submit(job.conversation, to_operation(job.operation, params));
+  return controller_->submit(job_id(job), to_operation(job.operation, params));
 }
 
 void ControllerBackend::abort(const negotiation::Job& job, const std::string& why) {
-  if (auto st = controller_->cancel(job.conversation); !st) {
-    log::get("factory")->info("{}: cancelling {} ({}): {}", controller_->identification().name,
-                              job.conversation, why, st.error().message);
+  if (auto st = controller_->cancel(job_id(job)); !st) {
+    log::get("factory")->info("{}: cancelling {} ({}): {}", controller_->identification().name, job_id(job),
+                              why, st.error().message);
   }
 }
 

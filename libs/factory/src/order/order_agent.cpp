@@ -27,6 +27,12 @@ std::string belt_of(const std::string& place) {
   return place.substr(0, place.find('/'));
 }
 
+negotiation::ManagerConfig product_manager_config() {
+  negotiation::ManagerConfig c;
+  c.lost_grace = kLostGrace;
+  return c;
+}
+
 std::shared_ptr<OrderAgent> OrderAgent::create(Order order, std::string product,
                                                const ProductContext& context, OrderAgentOptions options,
                                                OrderEventSink sink) {

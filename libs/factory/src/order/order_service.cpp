@@ -19,7 +19,7 @@ Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
   }
   auto a = std::unique_ptr<OrderServiceAgent>(new OrderServiceAgent(layout, clock));
   a->endpoints_ = std::move(*endpoints);
-  a->manager_ = std::make_unique<cnp::Manager>(*a->endpoints_, clock);
+  a->manager_ = std::make_unique<cnp::Manager>(*a->endpoints_, clock, product_manager_config());
   a->planner_ = std::make_unique<cnp::RoutePlanner>(*a->endpoints_, clock);
   a->endpoints_->bind(static_cast<cnp::ManagerInbox&>(*a->manager_));
   a->endpoints_->bind(static_cast<cnp::RouteInbox&>(*a->planner_));

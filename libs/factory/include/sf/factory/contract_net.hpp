@@ -20,6 +20,13 @@ Operation to_operation(const std::string& type, const std::vector<negotiation::P
 // most kMaxParams of them, in name order (the result text says the rest).
 std::vector<negotiation::Param> to_params(const std::map<std::string, double>& results);
 
+// The controller's job of one award: "<conversation>#<award id>". A renegotiated conversation
+// may award the same machine again while its cancelled job is still winding down (a belt
+// stopping, a handshake ending): each award is a job of its own.
+std::string job_id(const negotiation::Job& job);
+// The conversation and award of a job id (nullopt: not one of job_id's).
+std::optional<std::pair<std::string, std::uint32_t>> parse_job_id(const std::string& id);
+
 class ControllerBackend final : public negotiation::WorkBackend {
  public:
   // The controller must outlive the backend; its on_job_end is taken over.

@@ -106,6 +106,14 @@ class ProductDecisions {
                                    negotiation::RouteCallback done) = 0;
 };
 
+// How products negotiate (the order service's Manager, and the simulation's): a machine whose
+// liveliness lease ran out while it worked gets kLostGrace to come back before its work goes to
+// another machine. A loaded host misses a lease now and then, and a belt that is already moving
+// a box cannot be undone by a second award; a machine that is really gone (killed, cut off) is
+// replaced after its lease plus the grace.
+inline constexpr std::chrono::seconds kLostGrace{3};
+negotiation::ManagerConfig product_manager_config();
+
 // The Contract Net's decisions (paper §IV.B): MachiningDomain conversations and
 // ConveyingDomain route requests. Both must outlive it.
 class ContractNetDecisions final : public ProductDecisions {

@@ -129,6 +129,10 @@ class Contractor final : public ContractorInbox {
   // the reason) goes to the manager. Errc::not_found when no such job is queued.
   Status report(const std::string& conversation, bool ok, const std::string& detail,
                 std::vector<Param> results = {});
+  // The same for one award of the conversation: the report of a job that was cancelled (the
+  // manager renegotiated) does not end a newer award of the same conversation to this contractor.
+  Status report(const std::string& conversation, std::uint32_t award_id, bool ok, const std::string& detail,
+                std::vector<Param> results = {});
   [[nodiscard]] std::optional<Clock::time_point> next_deadline() const;
 
   [[nodiscard]] const std::string& name() const { return config_.name; }

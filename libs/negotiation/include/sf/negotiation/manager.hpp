@@ -16,7 +16,10 @@
 //   the previous one was refused, lapsed or withdrawn. A CONFIRM of a withdrawn
 //   award is answered with CANCEL, so that contractor does not work.
 // - The confirmed contractor lost (liveliness) or FAILURE: the operation is
-//   negotiated again (renegotiation), the old award withdrawn.
+//   negotiated again (renegotiation), the old award withdrawn. With lost_grace,
+//   a lost worker has that long to come back (liveliness regained, or any message
+//   from it) before its work is given up: a machine that only missed its lease
+//   (a loaded host) may be moving a box, which a second award cannot undo.
 // - DIRECTEDAWARD: the award goes to a named contractor without a call; if it
 //   refuses or does not confirm, the manager falls back to ANNOUNCE.
 // - Bids after the deadline, for another round, duplicates, and messages for
@@ -51,6 +54,7 @@ struct ManagerConfig {
   std::chrono::nanoseconds reannounce_delay{std::chrono::milliseconds{200}};  // after a round without bids
   std::uint32_t max_rounds = 10;             // announcements per conversation; 0 = unlimited
   std::chrono::nanoseconds work_timeout{0};  // > 0: no INFORM-DONE by then → renegotiate
+  std::chrono::nanoseconds lost_grace{0};    // > 0: a lost worker's time to come back
   std::uint32_t incarnation = 0;             // part of conversation ids; 0 = random
 };
 
@@ -123,6 +127,7 @@ class Manager final : public ManagerInbox {
 
   void on_contractor_message(const ContractorMessage& message) override;
   void on_contractor_lost(const std::string& operation, const std::string& contractor) override;
+  void on_contractor_alive(const std::string& operation, const std::string& contractor) override;
 
   // Fires due timers (bid deadlines, confirmation timeouts, re-announcements).
   void tick();
@@ -138,6 +143,7 @@ class Manager final : public ManagerInbox {
 
  private:
   Conversation* lookup(const std::string& id);
+  void on_work_timer(Conversation& c);
   void set_timer(Conversation& c, Clock::time_point at);
   void clear_timer(Conversation& c);
   void on_timer(Conversation& c);

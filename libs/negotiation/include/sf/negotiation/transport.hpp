@@ -24,6 +24,8 @@ class ManagerInbox {
   // The contractor's OPx_BID writer lost its liveliness (DDS LIVELINESS_CHANGED):
   // the contractor is presumed dead.
   virtual void on_contractor_lost(const std::string& operation, const std::string& contractor) = 0;
+  // The same writer asserts its liveliness again (LIVELINESS_CHANGED, alive_count up).
+  virtual void on_contractor_alive(const std::string& /*operation*/, const std::string& /*contractor*/) {}
 };
 
 class ManagerTransport {

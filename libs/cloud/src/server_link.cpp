@@ -199,7 +199,46 @@ Status ServerLink::subscribe_all() {
   }
   log::get("cloud")->info("{}: {} series subscribed{}", config_.name, series_.size(),
                           config_.events ? ", with events" : "");
+  catch_up(found->variables);
   return {};
+}
+
+// What the server kept while this gateway was away (stopped, crashed, or not started yet): each
+// series from its newest stored sample on, read back with HistoryRead (OPC 10000-11 §6.4.3.2),
+// after the subscription exists so that nothing falls between the two. The store skips the
+// samples it holds already (their key), so the overlap costs nothing. Variables the server keeps
+// no history of (no HistoryRead access, BadHistoryOperationUnsupported) have nothing to add.
+void ServerLink::catch_up(const std::vector<DiscoveredVariable>& variables) {
+  std::uint64_t caught = 0;
+  const ua::DateTime end = ua::DateTime::from_system_clock(clock_.utc_now() + 1s);
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    const historian::Series& series = series_[i].series;
+    auto latest = store_.latest(series.id);
+    ua::HistoryRawParams params;
+    // The epoch rather than an open bound: with one bound open a raw read counts values back.
+    params.start =
+        latest && *latest ? to_date_time((*latest)->source_time) : ua::DateTime::from_unix_seconds(0);
+    params.end = end;
+    params.max_values = 1000;
+    auto values = client_->history_read_raw(variables[i].node, params);
+    if (!values) {
+      continue;
+    }
+    std::optional<historian::Sample> previous;
+    for (const ua::DataValue& value : *values) {
+      historian::Sample sample = to_sample(series.id, value, now());
+      if (previous && sample.source_time == previous->source_time) {
+        sample.seq = previous->seq + 1;
+      }
+      previous = sample;
+      writer_.push(std::move(sample));
+      ++caught;
+    }
+  }
+  if (caught > 0) {
+    samples_ += caught;
+    log::get("cloud")->info("{}: {} samples read back from the server's history", config_.name, caught);
+  }
 }
 
 Status ServerLink::subscribe_events(ua::SyncClient::SubscriptionId subscription) {

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "model_walk.hpp"
 #include "sample_writer.hpp"
 #include "sf/cloud/config.hpp"
 #include "sf/cloud/gateway.hpp"
@@ -51,6 +52,7 @@ class ServerLink {
   void setup();
   Status connect_with_retry();
   Status subscribe_all();
+  void catch_up(const std::vector<DiscoveredVariable>& variables);
   Status subscribe_events(opcua::SyncClient::SubscriptionId subscription);
   void on_value(std::size_t index, const opcua::DataValue& value);
   void on_event(const std::vector<opcua::Variant>& fields);

@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <numeric>
 
 #include "counter_server.hpp"
 #include "pg_server.hpp"
+#include "sf/opcua/server/history.hpp"
 
 namespace sf::cloud {
 namespace {
@@ -152,6 +154,103 @@ TEST_F(GatewayEndToEnd, EveryValueOfEveryServerReachesSqliteInOrder) {
   for (std::size_t s = 0; s < kServers; ++s) {
     EXPECT_EQ(live["line-" + std::to_string(s)], kCounters * (kSteps + 1));
   }
+}
+
+// A server that keeps its values (a shop-floor controller's MemoryHistory): one Historizing
+// Int64 under Objects/Line, written by the test with source times a millisecond apart.
+class HistoryServer {
+ public:
+  HistoryServer() {
+    opcua::server::ServerConfig config;
+    config.transport.host = "127.0.0.1";
+    config.advertised_host = "127.0.0.1";
+    server_ = std::make_unique<opcua::server::Server>(config);
+    auto history = std::make_shared<opcua::server::MemoryHistory>();
+    server_->with_address_space([&](opcua::server::AddressSpace& space) {
+      const std::uint16_t ns = space.add_namespace("urn:smartfactory:test:history");
+      opcua::server::ObjectSpec line;
+      line.node_id = opcua::NodeId(ns, opcua::String("Line"));
+      line.browse_name = opcua::QualifiedName(ns, "Line");
+      line.parent = opcua::NodeId(0, opcua::id::ObjectsFolder);
+      line.reference_type = opcua::NodeId(0, opcua::id::Organizes);
+      (void)space.add_object(line);
+      opcua::server::VariableSpec v;
+      v.node_id = node_ = opcua::NodeId(ns, opcua::String("Line.Count"));
+      v.browse_name = opcua::QualifiedName(ns, "Count");
+      v.parent = line.node_id;
+      v.data_type = opcua::NodeId(0, opcua::id::Int64);
+      v.value = opcua::DataValue(opcua::Variant(std::int64_t{0}));
+      v.value.source_timestamp = stamp(0);
+      v.historizing = true;
+      v.access_level = v.user_access_level =
+          opcua::server::access_level::CurrentRead | opcua::server::access_level::HistoryRead;
+      (void)space.add_variable(v);
+      history->attach(space);
+    });
+    server_->set_history_database(history);
+    ok_ = server_->start().ok();
+  }
+  void set(std::int64_t value) {
+    opcua::DataValue v{opcua::Variant(value)};
+    v.source_timestamp = stamp(value);
+    server_->with_address_space([&](opcua::server::AddressSpace& space) { (void)space.set_value(node_, v); });
+  }
+  [[nodiscard]] bool ok() const { return ok_; }
+  [[nodiscard]] std::uint16_t port() const { return server_->port(); }
+
+ private:
+  static opcua::DateTime stamp(std::int64_t value) {
+    return opcua::DateTime(opcua::DateTime::from_unix_seconds(1'700'000'000).ticks() + value * 10'000);
+  }
+  std::unique_ptr<opcua::server::Server> server_;
+  opcua::NodeId node_;
+  bool ok_ = false;
+};
+
+std::vector<std::int64_t> stored_values(historian::Store& store) {
+  std::vector<std::int64_t> values;
+  auto series = store.list_series();
+  if (!series || series->size() != 1) {
+    return values;
+  }
+  auto samples = store.read_raw(series->front().id, historian::from_micros(0),
+                                historian::from_micros(INT64_MAX / 2), 1'000'000);
+  for (const historian::Sample& sample : samples ? *samples : std::vector<historian::Sample>{}) {
+    values.push_back(std::get<std::int64_t>(sample.value));
+  }
+  return values;
+}
+
+TEST(GatewayCatchUp, WhatTheServerKeptWhileTheGatewayWasAwayIsReadBackOnceInOrder) {
+  HistoryServer server;
+  ASSERT_TRUE(server.ok());
+  TempDir dir;
+  GatewayConfig config;
+  config.historian.url = "sqlite:" + (dir.path() / "history.db").string();
+  config.historian.buffer = dir.path() / "buffer";
+  config.historian.flush_interval = std::chrono::milliseconds(20);
+  config.servers.push_back(server_config("line", "opc.tcp://127.0.0.1:" + std::to_string(server.port()),
+                                         {path_rule("/Objects/Line", 1)}));
+  const auto expect_values_up_to = [&](std::int64_t last) {
+    std::vector<std::int64_t> expected(static_cast<std::size_t>(last + 1));
+    std::iota(expected.begin(), expected.end(), 0);
+    auto gateway = Gateway::create(config);
+    ASSERT_TRUE(gateway.ok()) << gateway.error().message;
+    ASSERT_TRUE((*gateway)->start().ok());
+    EXPECT_TRUE(eventually([&] { return stored_values((*gateway)->store()) == expected; }))
+        << ::testing::PrintToString(stored_values((*gateway)->store()));
+    (*gateway)->stop();
+  };
+  // Before the gateway's first start, faster than any sampling interval.
+  for (std::int64_t v = 0; v <= 30; ++v) {  // 0 again: the initial value is not a write
+    server.set(v);
+  }
+  expect_values_up_to(30);
+  // While it was stopped.
+  for (std::int64_t v = 31; v <= 60; ++v) {
+    server.set(v);
+  }
+  expect_values_up_to(60);
 }
 
 class GatewayPostgres : public GatewayEndToEnd {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "sf/opcua/server/history.hpp"
 #include "sf/opcua/server/nodeset.hpp"
 #include "sf/opcua/server/security_setup.hpp"
 
@@ -18,7 +19,13 @@ Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerS
     return Error(configured.error()).with_context("OPC UA security");
   }
   security = *configured;
-  return std::make_unique<opcua::server::Server>(std::move(config), clock);
+  auto server = std::make_unique<opcua::server::Server>(std::move(config), clock);
+  // The values of Historizing variables (historize()), kept so that a cloud that was away reads
+  // back what it missed (HistoryRead). The server owns both the history and its address space.
+  auto history = std::make_shared<opcua::server::MemoryHistory>(kHistoryDepth);
+  server->with_address_space([&](opcua::server::AddressSpace& space) { history->attach(space); });
+  server->set_history_database(history);
+  return server;
 }
 
 Result<std::unique_ptr<ModelServer>> ModelServer::start(const ControllerSettings& settings,

@@ -13,9 +13,11 @@
 #include <thread>
 
 #include "collector.hpp"  // libs/opcua/test
+#include "sf/factory/controller_process.hpp"
 #include "sf/factory/testing/packml_machine.hpp"
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "sf/testing/temp_dir.hpp"
 
 namespace sf::factory {
 namespace {
@@ -265,6 +267,69 @@ TEST(ServeMachine, ServesUntilStoppedAndRefusesABadNodeset) {
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("/nonexistent/candy.xml"), std::string::npos)
       << refused.error().message;
+}
+
+TEST(ModelServerHistory, TheServerKeepsThePackMLStatesForHistoryRead) {
+  // A controller process's server (settings_server): a cloud that was away reads back the states
+  // it missed (OPC 10000-11 §6.4.3).
+  sf::testing::TempDir dir;
+  PackMLMachine machine{SteadyClock::instance()};
+  ControllerThread thread{machine, SteadyClock::instance(), thread_options()};
+  ControllerSettings settings;
+  settings.machine = "scara-robot-1";
+  settings.opcua_port = 0;
+  settings.opcua_security.pki = (dir.path() / "pki").string();
+  settings.opcua_security.modes = "none";
+  settings.opcua_security.anonymous = "operator";
+  auto model = ModelServer::start(settings, thread, machine.identification(), SteadyClock::instance());
+  ASSERT_TRUE(model.ok()) << model.error().describe();
+  thread.start();
+  ua::ClientConfig cc;
+  cc.endpoint_url = (*model)->endpoint();
+  cc.auto_reconnect = false;
+  ua::SyncClient client(cc);
+  ASSERT_TRUE(client.connect().ok());
+  const auto ns = client.namespace_index(kMachineNamespace);
+  ASSERT_TRUE(ns.ok());
+  const auto node = [&](std::string_view path) {
+    return ua::NodeId(*ns, ua::String(fmt::format("ScaraRobot1.{}", path)));
+  };
+  const auto state_now = [&] {
+    auto v = client.read_value(node("PackML.Status.StateCurrent"));
+    const auto* s = v.ok() ? v->value.get_if<std::int32_t>() : nullptr;
+    return s != nullptr ? static_cast<PackMLState>(*s) : PackMLState::Undefined;
+  };
+  const auto run = [&](PackMLCommand command, PackMLState until) {
+    const auto object = node(kExecuteState);
+    ASSERT_TRUE(
+        client.call_method(object, node(fmt::format("{}.{}", kExecuteState, to_string(command))), {}).ok());
+    for (int i = 0; i < 500 && state_now() != until; ++i) {
+      std::this_thread::sleep_for(10ms);
+    }
+    ASSERT_EQ(state_now(), until);
+  };
+  run(PackMLCommand::Reset, PackMLState::Idle);
+  run(PackMLCommand::Start, PackMLState::Execute);
+
+  ua::HistoryRawParams params;
+  params.start = ua::DateTime::from_unix_seconds(0);
+  params.end = ua::DateTime::from_system_clock(std::chrono::system_clock::now() + 1s);
+  auto history = client.history_read_raw(node("PackML.Status.StateCurrent"), params);
+  ASSERT_TRUE(history.ok()) << history.error().describe();
+  std::vector<std::int32_t> states;
+  for (const ua::DataValue& v : *history) {
+    if (const auto* s = v.value.get_if<std::int32_t>()) {
+      states.push_back(*s);
+    }
+  }
+  // Stopped, then Idle, then Execute, in that order (the transient states between as published).
+  const std::vector<PackMLState> wanted{PackMLState::Stopped, PackMLState::Idle, PackMLState::Execute};
+  auto at = states.begin();
+  for (PackMLState w : wanted) {
+    at = std::find(at, states.end(), static_cast<std::int32_t>(w));
+    ASSERT_NE(at, states.end()) << to_string(w) << " missing in " << ::testing::PrintToString(states);
+  }
+  EXPECT_EQ(states.back(), static_cast<std::int32_t>(PackMLState::Execute));
 }
 
 }  // namespace

@@ -173,6 +173,7 @@ Result<MachineModel> MachineModel::create(srv::AddressSpace& space, const Identi
       spec.array_dimensions = {kPackMLStates};
     }
     spec.value.status = ua::status::BadWaitingForInitialData;  // until the controller publishes
+    historize(spec);
     SF_TRY(space.add_variable(spec));
   }
   for (const auto& row : model::kMethods) {
@@ -195,6 +196,7 @@ Status MachineModel::add_tag(srv::AddressSpace& space, const std::string& tag, c
   auto spec = variable_spec(node(path), QualifiedName(ns_, ua::String(tag)), node("Tags"),
                             static_cast<std::uint32_t>(value.value.type()), false);
   spec.value = value;
+  historize(spec);
   SF_TRY(space.add_variable(spec));
   auto reason =
       variable_spec(node(path + ".Reason"), QualifiedName(ns_, "Reason"), node(path), ua::id::String, true);

@@ -19,4 +19,11 @@ opcua::server::VariableSpec variable_spec(const opcua::NodeId& id, opcua::Qualif
   return spec;
 }
 
+void historize(opcua::server::VariableSpec& spec) {
+  namespace al = opcua::server::access_level;
+  spec.historizing = true;
+  spec.access_level |= al::HistoryRead;
+  spec.user_access_level |= al::HistoryRead;
+}
+
 }  // namespace sf::factory

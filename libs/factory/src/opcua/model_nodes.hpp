@@ -17,4 +17,9 @@ opcua::server::VariableSpec variable_spec(const opcua::NodeId& id, opcua::Qualif
                                           const opcua::NodeId& parent, std::uint32_t data_type,
                                           bool property);
 
+// A variable whose values the server keeps (Historizing, AccessLevel HistoryRead: OPC 10000-3
+// §5.6.2, §8.57): what the cloud missed while it was away, it reads back with HistoryRead
+// (OPC 10000-11 §6.4.3) from the server's MemoryHistory (settings_server).
+void historize(opcua::server::VariableSpec& spec);
+
 }  // namespace sf::factory

@@ -66,18 +66,21 @@ Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agen
     auto spec = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
                               ua::id::UInt32, false);
     spec.value = ua::DataValue(ua::Variant(std::uint32_t{0}));
+    historize(spec);
     SF_TRY(space.add_variable(spec));
   }
   for (std::string_view name : kLeadTimes) {
     auto spec = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
                               ua::id::Double, false);
     spec.value = ua::DataValue(ua::Variant(0.0));
+    historize(spec);
     SF_TRY(space.add_variable(spec));
   }
   for (std::string_view name : kTexts) {
     auto text = variable_spec(node(ns, name), ua::QualifiedName(ns, ua::String(name)), node(ns, ""),
                               ua::id::String, false);
     text.value = ua::DataValue(ua::Variant(std::string()));
+    historize(text);
     SF_TRY(space.add_variable(text));
   }
 

@@ -20,9 +20,13 @@
 
 namespace sf::factory {
 
-// An OPC UA server from a process's `opcua:` settings (port, security, users), not started yet;
-// `security` is what its security came to (policies, modes, users). The controllers' ModelServer
-// and the order service start theirs from here.
+// Values a shop-floor server keeps per Historizing variable: at the rate a controller
+// publishes, minutes of its state and tags (the cloud's outage it can bridge).
+inline constexpr std::size_t kHistoryDepth = 10'000;
+// An OPC UA server from a process's `opcua:` settings (port, security, users), not started yet,
+// with a MemoryHistory of its Historizing variables; `security` is what its security came to
+// (policies, modes, users). The controllers' ModelServer and the order service start theirs
+// from here.
 Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerSettings& settings,
                                                                Clock& clock, std::string& security);
 

@@ -123,6 +123,9 @@ void Master::maintain() {
     const bool recovering = std::any_of(recoveries_.begin(), recoveries_.end(),
                                         [&](const Recovery& r) { return r.position == p; });
     if (!answered[p]) {
+      if (!s.lost && ++s.unanswered < options_.lost_after) {
+        continue;  // asked again at the next maintenance
+      }
       if (!s.lost) {
         s.lost = true;
         report(SlaveEvent::Kind::lost, p, fmt::format("slave {} ({}) lost", p, s.name()));
@@ -132,6 +135,7 @@ void Master::maintain() {
       }
       continue;
     }
+    s.unanswered = 0;
     s.al_status = states[p].first;
     s.al_status_code = states[p].second;
     if (recovering || (s.al_status.state() == target_state_ && !s.al_status.error)) {

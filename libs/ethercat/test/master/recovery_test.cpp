@@ -98,6 +98,36 @@ TEST(Recovery, DisconnectedSlaveIsReportedAndComesBackToOp) {
   EXPECT_TRUE(m.diagnose().empty());
 }
 
+TEST(Recovery, ASegmentSilentForLessThanThreeDiagnosesIsNotLost) {
+  // Frames that do not come back for a few cycles (an EtherCAT-in-UDP peer on a loaded host):
+  // the master diagnoses every maintenance interval (5 ms) but calls a slave lost only after
+  // three silent diagnoses in a row.
+  Bench b("digital-io:2,servo:1");
+  ASSERT_TRUE(b.master->bring_up().ok());
+  auto& m = *b.master;
+  std::vector<SlaveEvent> events;
+  m.on_slave_event([&](const SlaveEvent& e) { events.push_back(e); });
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_TRUE(b.cycle().ok());
+  }
+  b.segment->set_drop_probability(1.0);
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_FALSE(b.cycle().received);
+  }
+  b.segment->set_drop_probability(0.0);
+  for (int i = 0; i < 20; ++i) {
+    b.cycle();
+  }
+  EXPECT_TRUE(m.last_exchange().ok());
+  EXPECT_TRUE(events.empty()) << events.front().message;
+  // Silent for longer: every slave lost, as before.
+  b.segment->set_drop_probability(1.0);
+  for (int i = 0; i < 30; ++i) {
+    b.cycle();
+  }
+  EXPECT_EQ(m.lost_slaves(), (std::vector<std::size_t>{0, 1, 2}));
+}
+
 TEST(Recovery, TwoSlavesOutBackInAnyOrder) {
   Bench b("digital-io:4,servo:3");
   ASSERT_TRUE(b.master->bring_up().ok());

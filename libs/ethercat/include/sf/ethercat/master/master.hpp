@@ -59,6 +59,9 @@ struct MasterOptions {
   // While something is wrong, maintain() diagnoses and probes at most this
   // often (each check costs a few acyclic frames).
   std::chrono::nanoseconds maintenance_interval{std::chrono::milliseconds{5}};
+  // Diagnoses in a row a slave must miss before it counts as lost: one late answer (a loaded
+  // host, an EtherCAT-in-UDP hop) is not a cut cable.
+  std::uint32_t lost_after = 3;
   // Distributed clocks (dc.cpp).
   bool distributed_clocks = true;
   std::size_t dc_static_drift_frames = 15000;

@@ -77,7 +77,8 @@ struct SlaveInfo {
   DcInfo dc;
   AlStatus al_status;
   std::uint16_t al_status_code = 0;
-  bool lost = false;  // stopped answering; the recovery brings it back
+  bool lost = false;             // stopped answering; the recovery brings it back
+  std::uint32_t unanswered = 0;  // diagnoses in a row it did not answer
 
   [[nodiscard]] std::string name() const;  // SII name, else "slave <position>"
   [[nodiscard]] bool port_open(unsigned port) const {

@@ -214,6 +214,14 @@ TEST_F(SmartRobotTest, AnAxisFaultMidMoveAbortsWithTheErrorCodeAndClearResetReco
   EXPECT_TRUE(outcomes_[2].ok) << outcomes_[2].detail;
 }
 
+TEST_F(SmartRobotTest, ADriveFaultWhileStoppedIsAcknowledgedByTheReset) {
+  inject("axis-fault:scara-robot-1:3:0x2310");
+  rig_.run_for(20ms);
+  EXPECT_EQ(state(), PackMLState::Stopped);  // drives off: not a reason to abort
+  ASSERT_TRUE(robot_.command(PackMLCommand::Reset));
+  ASSERT_TRUE(until(PackMLState::Idle, 5s)) << to_string(state());
+}
+
 TEST_F(SmartRobotTest, ACutCableStopsTheRobotAndTheReturnResetsItToIdle) {
   to_execute();
   place_box();
@@ -335,6 +343,35 @@ TEST_F(SmartRobotTest, ABoxPassingThroughTheStationDoesNotStartItsJob) {
   EXPECT_FALSE(robot_.status().job) << "the job began for a box that only passed by";
   EXPECT_EQ(robot_.status().queued, 1U);
   EXPECT_FALSE(robot_.arm().moving());
+}
+
+TEST(SmartRobotRestart, ARestartedIpcResetsTheDrivesItsPredecessorLeftFaultedAndStarts) {
+  // The IPC's process killed: the drives' process-data watchdog expires and they fault
+  // (communication, 0x8100). The IPC the supervisor starts again finds them so; its auto start
+  // (Reset acknowledges drive faults, OPC 30050 §6.7) brings the robot to Execute rather than
+  // aborting on a fault that came before it.
+  testing::SmartRobotRig first(true);
+  first.start();
+  auto& rig = first.rig;
+  ASSERT_TRUE(rig.run_until([&] { return first.robot.status().packml.state == PackMLState::Execute; }, 10s));
+  rig.on_cycle(nullptr);  // killed: nobody exchanges process data any more
+  rig.run_for(500ms);
+
+  ethercat::slave::SegmentLink link(rig.plant().smart_robot(testing::kRobot)->segment());
+  ethercat::master::MasterOptions options;
+  options.dc_static_drift_frames = 200;
+  ethercat::master::Master master(link, rig.clock(), options);
+  SmartRobotConfig config;
+  config.robot = testing::kRobot;
+  config.auto_start = true;
+  SmartRobot again(config, rig.layout(), master, rig.clock());
+  auto started = again.start();
+  ASSERT_TRUE(started) << started.error().describe();
+  rig.on_cycle([&] { again.poll(rig.clock().now()); });
+  EXPECT_TRUE(rig.run_until([&] { return again.status().packml.state == PackMLState::Execute; }, 10s))
+      << to_string(again.status().packml.state) << ": "
+      << (again.status().packml.stop_reason ? again.status().packml.stop_reason->message : "");
+  rig.on_cycle(nullptr);
 }
 
 }  // namespace

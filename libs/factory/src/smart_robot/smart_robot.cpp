@@ -12,11 +12,16 @@ using smart_robot::Leg;
 
 namespace {
 
-// The states in which a drive fault aborts the unit (not while it is already
-// going down or being cleared).
+// The states in which a drive fault aborts the unit: not while it is already going down or
+// being cleared, and not in Stopped, where the drives are off and the next Reset acknowledges
+// their faults (a fault the drives kept from before, e.g. their watchdog when the previous IPC
+// died, is not this controller's to abort on).
 bool watches_faults(S s) {
-  return s != S::Aborting && s != S::Aborted && s != S::Clearing;
+  return s != S::Aborting && s != S::Aborted && s != S::Clearing && s != S::Stopped;
 }
+
+// How long Resetting waits for the drives to take the fault reset and enable.
+constexpr auto kEnableTimeout = std::chrono::seconds{2};
 
 // The states a lost segment stops (Stop is refused in the others).
 bool runs(S s) {
@@ -125,6 +130,7 @@ Status SmartRobot::command(PackMLCommand command) {
   SF_TRY(unit_.command(command, operator_stop_reason(command)));
   if (command == PackMLCommand::Reset) {
     reset_step_ = ResetStep::enable;
+    enable_since_.reset();
   }
   auto_start_pending_ = false;  // an operator has taken over
   stopped_by_link_ = false;
@@ -178,7 +184,9 @@ Clock::time_point SmartRobot::poll(Clock::time_point now) {
   last_cycle_ = now;
   watch_link();
   read_tag();
-  if (watches_faults(unit_.state()) && arm_->link_up()) {
+  // While Resetting acknowledges the drives' faults, they are not new ones.
+  const bool acknowledging = unit_.state() == S::Resetting && reset_step_ == ResetStep::enable;
+  if (watches_faults(unit_.state()) && !acknowledging && arm_->link_up()) {
     watch_faults();
   }
   auto_start();
@@ -209,6 +217,7 @@ void SmartRobot::watch_link() {
   if (stopped_by_link_ && unit_.state() == S::Stopped) {
     stopped_by_link_ = false;
     reset_step_ = ResetStep::enable;
+    enable_since_.reset();
     (void)unit_.command(PackMLCommand::Reset);
     auto_start_pending_ = config_.auto_start;
   }
@@ -220,6 +229,7 @@ void SmartRobot::auto_start() {
   }
   if (unit_.state() == S::Stopped) {
     reset_step_ = ResetStep::enable;
+    enable_since_.reset();
   }
   if (unit_.advance_to_execute()) {
     auto_start_pending_ = false;
@@ -261,6 +271,16 @@ bool SmartRobot::reset() {
   }
   switch (reset_step_) {
     case ResetStep::enable:
+      if (!enable_since_) {
+        enable_since_ = clock_->now();
+      } else if (clock_->now() - *enable_since_ > kEnableTimeout) {
+        const auto fault = arm_->axis_fault();
+        unit_.fault(StopReason{kStopAxisFault,
+                               fmt::format("{}: the drives did not enable: {}", config_.robot,
+                                           fault ? *fault : std::string("no fault shown")),
+                               {}});
+        return false;
+      }
       empty_.clear();
       arm_->fault_reset();
       arm_->gripper(false);
@@ -282,6 +302,7 @@ bool SmartRobot::reset() {
           arm_->follow(std::move(*path));
         }
         reset_step_ = ResetStep::home;
+        enable_since_.reset();
       }
       return false;
     case ResetStep::home:

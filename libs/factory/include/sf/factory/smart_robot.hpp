@@ -154,6 +154,7 @@ class SmartRobot final : public MachineController, private UnitWork {
   bool auto_start_pending_ = false;
   bool stopped_by_link_ = false;
   ResetStep reset_step_ = ResetStep::enable;
+  std::optional<Clock::time_point> enable_since_;  // Resetting's enable step began
   Clock::time_point last_cycle_{};
   std::uint16_t tag_last_ = 0;     // the first station's tag reader, last cycle
   std::uint16_t station_box_ = 0;  // its reading, steady over two cycles (0: none)

@@ -186,6 +186,9 @@ void Esc::end_frame() {
 void Esc::poll() {
   core_->poll();
 }
+void Esc::emulation_paused(std::chrono::nanoseconds gap) {
+  core_->emulation_paused(gap.count());
+}
 void Esc::power_on() {
   core_->power_on();
 }

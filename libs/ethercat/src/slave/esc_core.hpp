@@ -34,6 +34,8 @@ class EscCore {
   void process(DatagramView datagram);
   void end_frame();
   void poll();
+  // The emulation did not run for `ns` (see Esc::emulation_paused).
+  void emulation_paused(std::int64_t ns) { watchdog_last_ += ns; }
   void power_on();
   void set_link(unsigned port, bool up);
   [[nodiscard]] bool forwards(unsigned port) const;

@@ -172,6 +172,13 @@ void Segment::poll() {
   }
 }
 
+void Segment::emulation_paused(std::chrono::nanoseconds gap) {
+  auto lock = this->lock();
+  for (Slave& s : slaves_) {
+    s.esc->emulation_paused(gap);
+  }
+}
+
 bool Segment::random_drop() {
   if (options_.drop_probability <= 0.0) {
     return false;
@@ -330,7 +337,14 @@ void SegmentRunner::stop() {
 }
 
 Result<bool> SegmentRunner::run_once(std::chrono::nanoseconds timeout) {
+  // A turn that comes far later than the last one ended: this thread was not scheduled (the
+  // frames of that time wait in the link), which is no silence of the master's.
+  const auto now = segment_->clock().now();
+  if (last_turn_ && now - *last_turn_ > kStall + timeout) {
+    segment_->emulation_paused(now - *last_turn_ - timeout);
+  }
   auto received = link_->receive(buf_, timeout);
+  last_turn_ = segment_->clock().now();
   if (!received) {
     ++errors_;
     return received.error();

@@ -153,20 +153,62 @@ TEST(AlState, ProcessDataIsDeniedBeforeSafeOp) {
   EXPECT_EQ(h.run(Harness::make(Command::LRW, 0, Bytes(size, 0))).wkc, 3);
 }
 
-TEST(AlState, WatchdogTripsWhenOutputsStopInOp) {
-  Harness h("servo:1,digital-io:1");
+// "servo:1,digital-io:1" with process data, both in OP; the process image's size.
+std::size_t servo_and_io_in_op(Harness& h) {
   h.assign_stations();
   h.configure_mailbox(0);
   std::size_t size = h.configure_process_data(0, 0);
   size += h.configure_process_data(1, static_cast<std::uint32_t>(size));
   for (std::size_t p = 0; p < 2; ++p) {
-    ASSERT_EQ(h.request(p, AlState::PreOp), AlStatus::of(AlState::PreOp)) << p;
-    ASSERT_EQ(h.request(p, AlState::SafeOp), AlStatus::of(AlState::SafeOp)) << p;
+    EXPECT_EQ(h.request(p, AlState::PreOp), AlStatus::of(AlState::PreOp)) << p;
+    EXPECT_EQ(h.request(p, AlState::SafeOp), AlStatus::of(AlState::SafeOp)) << p;
   }
   h.run(Harness::make(Command::LRW, 0, Bytes(size, 0)));
   for (std::size_t p = 0; p < 2; ++p) {
-    ASSERT_EQ(h.request(p, AlState::Op), AlStatus::of(AlState::Op)) << p;
+    EXPECT_EQ(h.request(p, AlState::Op), AlStatus::of(AlState::Op)) << p;
   }
+  return size;
+}
+
+TEST(AlState, AnEmulationThatDidNotRunDoesNotCountThatTimeAgainstTheMaster) {
+  // The segment served by a SegmentRunner (as the plant serves its robots): a runner turn 300 ms
+  // after the last one (its process was not scheduled) finds the master's frame waiting; the
+  // watchdog (100 ms) keeps counting only the time the emulation ran.
+  Harness h("servo:1,digital-io:1");
+  const std::size_t size = servo_and_io_in_op(h);
+  auto pair = make_memory_link_pair();
+  SegmentRunner runner(*h.segment, *pair.b);
+  Frame f;
+  f.datagrams.push_back(Harness::make(Command::LRW, 0, Bytes(size, 0)));
+  const Bytes frame = *encode(f);
+  Bytes back(kMaxFrameSize);
+  const auto turn = [&](bool with_frame, std::chrono::milliseconds later) {
+    if (with_frame) {
+      ASSERT_TRUE(pair.a->send(frame).ok());
+    }
+    h.clock.advance(later);
+    ASSERT_TRUE(runner.run_once(std::chrono::milliseconds{0}).ok());
+    if (with_frame) {
+      ASSERT_EQ(*pair.a->receive(back, std::chrono::milliseconds{100}), frame.size());
+    }
+  };
+  for (int i = 0; i < 20; ++i) {
+    turn(true, std::chrono::milliseconds{1});
+  }
+  turn(true, std::chrono::milliseconds{300});  // the stall
+  EXPECT_EQ(h.segment->slave(1).state(), AlState::Op);
+  EXPECT_EQ(h.segment->slave(1).watchdog_expirations(), 0U);
+  // A master that goes silent while the emulation runs: 100 ms later the watchdog trips.
+  for (int i = 0; i < 120; ++i) {
+    turn(false, std::chrono::milliseconds{1});
+  }
+  EXPECT_EQ(h.segment->slave(1).watchdog_expirations(), 1U);
+  EXPECT_EQ(h.segment->slave(1).al_status(), AlStatus::of(AlState::SafeOp, true));
+}
+
+TEST(AlState, WatchdogTripsWhenOutputsStopInOp) {
+  Harness h("servo:1,digital-io:1");
+  const std::size_t size = servo_and_io_in_op(h);
   // 100 ms default watchdog: cycles every 50 ms keep it alive.
   Bytes image(size, 0);
   image[16] = 0xA5;  // digital-io outputs follow the servo's 6 output and 10 input bytes

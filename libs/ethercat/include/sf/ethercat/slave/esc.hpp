@@ -89,6 +89,10 @@ class Esc {
   void end_frame();
   // Timers (SII busy, watchdog, SYNC0, pending transitions) at clock.now().
   void poll();
+  // The emulation itself did not run for `gap` (its process descheduled): frames the master
+  // sent meanwhile wait in the link, so that time does not count against the master in the
+  // process-data watchdog. Hardware never pauses; an emulator on a loaded host does.
+  void emulation_paused(std::chrono::nanoseconds gap);
   // Power-on defaults: INIT, station address 0, SMs/FMMUs cleared, EEPROM reloaded.
   void power_on();
   // Physical link on a port (the segment's topology); DL status follows.

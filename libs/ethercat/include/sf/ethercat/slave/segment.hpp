@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <string_view>
@@ -84,6 +85,9 @@ class Segment {
   bool process(MutableByteSpan frame);
   // Runs every slave's timers (watchdogs, SYNC0, SII busy) without a frame.
   void poll();
+  // Every slave's Esc::emulation_paused.
+  void emulation_paused(std::chrono::nanoseconds gap);
+  [[nodiscard]] const Clock& clock() const { return *clock_; }
 
   // The slave loses power and drops out of the ring (later positions shift).
   void disconnect(std::size_t position);
@@ -174,7 +178,9 @@ class SegmentRunner {
  private:
   Segment* segment_;
   Link* link_;
+  static constexpr std::chrono::milliseconds kStall{20};
   std::chrono::nanoseconds poll_interval_;
+  std::optional<Clock::time_point> last_turn_;  // when the last run_once ended
   std::array<std::uint8_t, kMaxFrameSize + kVlanTagSize> buf_{};
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};

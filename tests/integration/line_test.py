@@ -15,11 +15,10 @@ import tempfile
 import time
 import uuid
 
+from line_harness import CONTROLLERS, EXECUTE, node_name, order_counter, plant_snapshot
 from sftest import Background, binary, check, fail, json_events, run, wait_for
 
 PARTITION = f"line-it-{uuid.uuid4().hex[:8]}"
-CONTROLLERS = ["scara-robot-1", "conveyor1", "conveyor2", "conveyor3", "conveyor4", "conveyor5",
-               "uploader", "downloader", "toshiba", "denso"]
 KILLED = "conveyor2"
 
 
@@ -29,14 +28,6 @@ def events(background, kind):
 
 def processes(event):
     return {p["name"]: p for p in event["processes"]}
-
-
-def node_name(machine):
-    """The machine object's name in its model (line::iri_name): scara-robot-1 → ScaraRobot1."""
-    return "".join(part[:1].upper() + part[1:] for part in machine.split("-"))
-
-
-EXECUTE = 6  # PackMLState::Execute (OMAC PackML state numbers)
 
 
 def packml_state(endpoint, machine):
@@ -60,16 +51,6 @@ def in_execute(endpoint, machine):
     check(state == ("Good", EXECUTE), f"{machine}'s OPC UA server {endpoint} answers: in Execute ({state})")
 
 
-def order_counter(endpoint, name):
-    proc = run([binary(), "opcua", "read", "--json", endpoint,
-                f"nsu=urn:smartfactory:orders;s=OrderService.{name}"], check_rc=False)
-    try:
-        value = json.loads(proc.stdout)[0]
-    except (json.JSONDecodeError, IndexError):
-        return None
-    return value.get("value") if value["status"] == "Good" else None
-
-
 def order_taken(endpoint):
     """The order service answers on its OPC UA server and takes an order from `smartfactory order`;
     the line makes it (uploaded, loaded, downloaded and inspected)."""
@@ -82,11 +63,7 @@ def order_taken(endpoint):
 
 def plant_answers(run_dir):
     """The plant's control port (from its endpoints line in its log) answers a snapshot."""
-    with open(os.path.join(run_dir, "log", "plant.log")) as f:
-        line = next(l for l in f if l.startswith('{"endpoints"'))
-    control = next(e["address"] for e in json.loads(line)["endpoints"] if e["protocol"] == "control")
-    snapshot = json.loads(run([binary(), "plant", "snapshot", "--json", "--control", control]).stdout)
-    return len(snapshot["snapshot"]["belts"]) == 5
+    return len(plant_snapshot(run_dir)["belts"]) == 5
 
 
 def alive(pid):

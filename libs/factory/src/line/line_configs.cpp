@@ -54,10 +54,13 @@ void opcua_and_dds_keys(YAML::Emitter& y, const LinePlan& plan, std::uint16_t po
   y << YAML::Key << "opcua" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "port"
     << YAML::Value << port;
   if (open) {
-    // Orders from anyone on this host, as configs/order-service.yaml: the line is on loopback.
-    y << YAML::Key << "modes" << YAML::Value << "none" << YAML::Key << "anonymous" << YAML::Value
-      << "operator";
+    // Orders from anyone on this host, as configs/order-service.yaml.
+    y << YAML::Key << "modes" << YAML::Value << "none";
   }
+  // The line runs on one host (loopback): whoever may use this host is its operator, and may
+  // Clear, Reset and Start a machine after a fault (OPC 30050 §6.7). A deployment across hosts
+  // gives each controller a users file instead (docs/opcua.md, "Security").
+  y << YAML::Key << "anonymous" << YAML::Value << "operator";
   y << YAML::EndMap;
   y << YAML::Key << "dds" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "interface"
     << YAML::Value << plan.options.interface << YAML::Key << "partition" << YAML::Value

@@ -1,12 +1,13 @@
 """README command (1)'s program: `smartfactory demo` runs the candy factory as processes on this
 host (plant, smart robot IPC, gateways, order service, cloud into SQLite), makes a small stream of
-generated orders and ends with a summary; the run directory keeps the historian with every box's
+generated orders and ends with a summary (with each machine's utilisation); the run directory keeps the historian with every box's
 inspection. Bad options are refused with exit 2.
 """
 import json
 import os
 import tempfile
 
+from line_harness import CONTROLLERS
 from sftest import binary, check, json_events, run
 
 ORDERS = 2
@@ -27,6 +28,12 @@ def main():
               f"every order done, none failed or lost: {s}")
         check(0 < s["lead_time_s"]["p50"] <= s["lead_time_s"]["p99"] and s["boxes_per_hour"] > 0,
               f"lead times and throughput: {s}")
+        u = s["utilisation"]
+        check(set(u) == set(CONTROLLERS) and all(0 <= x <= 1 for x in u.values()),
+              f"a utilisation for every machine, between 0 and 1: {u}")
+        # Two boxes went through: the uploader, the downloader and the belts they stand on worked.
+        check(all(u[m] > 0 for m in ["uploader", "downloader", "conveyor1", "conveyor4"]),
+              f"the machines every box passes had jobs in work: {u}")
         progress = json_events(proc.stdout, "progress")
         check(progress and progress[-1]["done"] == ORDERS, f"progress while it ran: {progress[-3:]}")
         samples = json.loads(run([binary(), "history", "query", "--db", f"sqlite:{run_dir}/history.db", "--series",

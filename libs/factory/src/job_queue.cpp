@@ -33,6 +33,7 @@ ControllerStatus JobQueue::status(const PackMLUnit& unit) const {
     status.operation = current_->op;
   }
   status.queued = queued();
+  status.working_time = worked_ + (current_ ? current_->active : std::chrono::nanoseconds{0});
   return status;
 }
 
@@ -69,6 +70,7 @@ bool JobQueue::begin_next(const std::function<bool(const Operation&)>& ready) {
 
 void JobQueue::finish(bool ok, std::string detail, std::map<std::string, double> results) {
   if (current_) {
+    worked_ += current_->active;
     outcomes_.push_back({current_->id, ok, std::move(detail), std::move(results)});
     current_.reset();
   }

@@ -67,5 +67,19 @@ TEST_F(JobQueueTest, AJobsActiveTimeCountsOnlyFromItsBegin) {
   EXPECT_EQ(jobs_.current()->active, 0ns);
 }
 
+TEST_F(JobQueueTest, TheWorkingTimeSumsTheActiveTimeOfEveryJobInWork) {
+  const PackMLUnit unit(SteadyClock::instance());
+  EXPECT_EQ(jobs_.status(unit).working_time, 0ns);
+  ASSERT_TRUE(jobs_.begin_next());
+  jobs_.current()->active += 700ms;
+  EXPECT_EQ(jobs_.status(unit).working_time, 700ms);  // the job in work counts as it goes
+  jobs_.finish(true, "done");
+  ASSERT_TRUE(jobs_.begin_next());
+  jobs_.current()->active += 300ms;
+  jobs_.finish(false, "cancelled");   // a job that failed was worked on too
+  EXPECT_TRUE(jobs_.cancel("job3"));  // never in work: no time
+  EXPECT_EQ(jobs_.status(unit).working_time, 1s);
+}
+
 }  // namespace
 }  // namespace sf::factory

@@ -132,7 +132,7 @@ TEST_F(MachineModelTest, StatusBecomesValuesAndOnlyChangesArePublished) {
   PackMLMachine machine(clock);
   StatusPublisher publisher(std::chrono::milliseconds(1000));
   auto first = publisher.changes(machine.status(), clock.utc_now());
-  EXPECT_EQ(first.size(), 17U + 2 * 3U);  // every variable, every tag and its reason
+  EXPECT_EQ(first.size(), 18U + 2 * 3U);  // every variable, every tag and its reason
   m.apply(space, first);
   EXPECT_EQ(*value(m, "PackML.Status.StateCurrent").value.get_if<std::int32_t>(), 2);  // Stopped
   EXPECT_EQ(

@@ -61,6 +61,7 @@ inline constexpr std::array kVariables{
     VariableRow{"Job.Operation", ua_id::String},
     VariableRow{"Job.Parameters", ua_id::String},
     VariableRow{"Job.Queued", ua_id::UInt32},
+    VariableRow{"Job.WorkingTime", ua_id::Duration},
     VariableRow{"Fault", ua_id::String},
 };
 

@@ -110,6 +110,7 @@ std::vector<ModelValue> StatusPublisher::values(const ControllerStatus& status, 
       {"Job.Operation", status.operation ? status.operation->type : std::string()},
       {"Job.Parameters", parameters_text(status.operation)},
       {"Job.Queued", status.queued},
+      {"Job.WorkingTime", duration_ms(status.working_time, resolution_)},
       {"Fault", status.fault},
   };
   static_assert(sizeof(fixed) / sizeof(fixed[0]) == model::kVariables.size(), "a value for every variable");

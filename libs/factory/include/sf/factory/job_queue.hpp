@@ -38,6 +38,7 @@ class JobQueue {
                const std::optional<Estimate>& estimate, std::string_view why_not);
   // A controller's status as far as its unit and its jobs tell: PackML state and
   // counters, the job in work, its operation, the queue's length.
+  // Its working_time: the active time of every job that ended plus the current one's.
   [[nodiscard]] ControllerStatus status(const PackMLUnit& unit) const;
   // A queued job ends at once ("cancelled before it started"); the one in
   // work is flagged (QueuedJob::cancel). Errc::not_found for an unknown id.
@@ -70,6 +71,7 @@ class JobQueue {
   std::optional<QueuedJob> current_;
   std::deque<QueuedJob> queue_;
   std::vector<JobOutcome> outcomes_;
+  std::chrono::nanoseconds worked_{0};  // active time of the jobs that ended
 };
 
 }  // namespace sf::factory

@@ -90,7 +90,10 @@ struct ControllerStatus {
   std::optional<std::string> job;      // the job in work
   std::optional<Operation> operation;  // its operation
   std::uint32_t queued = 0;            // jobs waiting behind it
-  std::string fault;                   // empty when none
+  // How long jobs were in work since the controller started: the machine's utilisation is this
+  // over the time it ran (the demo's summary, the simulation's bottleneck bound).
+  std::chrono::nanoseconds working_time{0};
+  std::string fault;  // empty when none
   std::vector<Tag> tags;
 };
 

@@ -66,6 +66,18 @@ inline ServerConfig server_config(std::string name, std::string url, std::vector
 
 using TempDir = sf::testing::TempDir;
 
+// Objects/Line in a namespace of its own (`uri`), where the test servers put their variables.
+inline opcua::server::ObjectSpec add_line_object(opcua::server::AddressSpace& space, std::string_view uri) {
+  const std::uint16_t ns = space.add_namespace(std::string(uri));
+  opcua::server::ObjectSpec line;
+  line.node_id = opcua::NodeId(ns, opcua::String("Line"));
+  line.browse_name = opcua::QualifiedName(ns, "Line");
+  line.parent = opcua::NodeId(0, opcua::id::ObjectsFolder);
+  line.reference_type = opcua::NodeId(0, opcua::id::Organizes);
+  (void)space.add_object(line);
+  return line;
+}
+
 class CounterServer {
  public:
   CounterServer(std::uint16_t port, const std::vector<std::shared_ptr<Counter>>& counters) {
@@ -75,13 +87,8 @@ class CounterServer {
     config.advertised_host = "127.0.0.1";
     server_ = std::make_unique<opcua::server::Server>(config);
     server_->with_address_space([&](opcua::server::AddressSpace& space) {
-      const std::uint16_t ns = space.add_namespace("urn:smartfactory:test:counters");
-      opcua::server::ObjectSpec line;
-      line.node_id = opcua::NodeId(ns, opcua::String("Line"));
-      line.browse_name = opcua::QualifiedName(ns, "Line");
-      line.parent = opcua::NodeId(0, opcua::id::ObjectsFolder);
-      line.reference_type = opcua::NodeId(0, opcua::id::Organizes);
-      (void)space.add_object(line);
+      const opcua::server::ObjectSpec line = add_line_object(space, "urn:smartfactory:test:counters");
+      const std::uint16_t ns = line.node_id.namespace_index;
       for (std::size_t i = 0; i < counters.size(); ++i) {
         opcua::server::VariableSpec v;
         v.node_id = opcua::NodeId(ns, opcua::String("Line.Counter" + std::to_string(i)));

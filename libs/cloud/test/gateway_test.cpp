@@ -167,13 +167,8 @@ class HistoryServer {
     server_ = std::make_unique<opcua::server::Server>(config);
     auto history = std::make_shared<opcua::server::MemoryHistory>();
     server_->with_address_space([&](opcua::server::AddressSpace& space) {
-      const std::uint16_t ns = space.add_namespace("urn:smartfactory:test:history");
-      opcua::server::ObjectSpec line;
-      line.node_id = opcua::NodeId(ns, opcua::String("Line"));
-      line.browse_name = opcua::QualifiedName(ns, "Line");
-      line.parent = opcua::NodeId(0, opcua::id::ObjectsFolder);
-      line.reference_type = opcua::NodeId(0, opcua::id::Organizes);
-      (void)space.add_object(line);
+      const opcua::server::ObjectSpec line = test::add_line_object(space, "urn:smartfactory:test:history");
+      const std::uint16_t ns = line.node_id.namespace_index;
       opcua::server::VariableSpec v;
       v.node_id = node_ = opcua::NodeId(ns, opcua::String("Line.Count"));
       v.browse_name = opcua::QualifiedName(ns, "Count");

@@ -38,6 +38,26 @@ class ManagerTest : public ::testing::Test {
     return *id;
   }
 
+  // A lost worker gets 2 s to come back.
+  ManagerConfig with_grace(std::chrono::nanoseconds work_timeout) {
+    ManagerConfig c = config();
+    c.lost_grace = 2s;
+    c.work_timeout = work_timeout;
+    return c;
+  }
+
+  // M1 bids (and M2 when two listen), is awarded and confirms; the conversation's id.
+  std::string m1_working(Manager& m, std::size_t listening) {
+    transport.listening = listening;
+    const auto id = start(m);
+    m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
+    if (listening > 1) {
+      m.on_contractor_message(from(id, "M2", 1, bid_at(clock, 20ms)));  // all answered: M1 awarded
+    }
+    m.on_contractor_message(from(id, "M1", 1, Confirm{1}));
+    return id;
+  }
+
   void advance(std::chrono::nanoseconds d, Manager& m) {
     clock.advance(d);
     m.tick();
@@ -304,15 +324,8 @@ TEST_F(ManagerTest, LostAwardeeIsSkippedAndLostWorkerTriggersRenegotiation) {
 }
 
 TEST_F(ManagerTest, ALostWorkerThatComesBackWithinItsGraceKeepsItsWork) {
-  auto cfg = config();
-  cfg.lost_grace = 2s;
-  cfg.work_timeout = 10s;
-  Manager m{transport, clock, cfg};
-  transport.listening = 2;
-  const auto id = start(m);
-  m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
-  m.on_contractor_message(from(id, "M2", 1, bid_at(clock, 20ms)));  // both answered: M1 awarded
-  m.on_contractor_message(from(id, "M1", 1, Confirm{1}));
+  Manager m{transport, clock, with_grace(10s)};
+  const auto id = m1_working(m, 2);
   const auto sent = transport.sent.size();
   // Liveliness lost, regained a second later: no CANCEL, no new round, not even after the grace.
   m.on_contractor_lost("OP1", "M1");
@@ -331,14 +344,8 @@ TEST_F(ManagerTest, ALostWorkerThatComesBackWithinItsGraceKeepsItsWork) {
 }
 
 TEST_F(ManagerTest, ALostWorkerNotBackWithinItsGraceIsReplacedAndTheWorkTimeoutStillHolds) {
-  auto cfg = config();
-  cfg.lost_grace = 2s;
-  cfg.work_timeout = 3s;
-  Manager m{transport, clock, cfg};
-  transport.listening = 1;
-  const auto id = start(m);
-  m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
-  m.on_contractor_message(from(id, "M1", 1, Confirm{1}));
+  Manager m{transport, clock, with_grace(3s)};
+  const auto id = m1_working(m, 1);
   m.on_contractor_lost("OP1", "M1");
   advance(1999ms, m);
   EXPECT_EQ(transport.announces.size(), 1U);

@@ -49,7 +49,7 @@ class ManagerTest : public ::testing::Test {
   // M1 bids (and M2 when two listen), is awarded and confirms; the conversation's id.
   std::string m1_working(Manager& m, std::size_t listening) {
     transport.listening = listening;
-    const auto id = start(m);
+    auto id = start(m);
     m.on_contractor_message(from(id, "M1", 1, bid_at(clock, 10ms)));
     if (listening > 1) {
       m.on_contractor_message(from(id, "M2", 1, bid_at(clock, 20ms)));  // all answered: M1 awarded

@@ -1,0 +1,258 @@
+// The line benchmark's run (line.hpp): `smartfactory line` as a child process, the orders fed to it,
+// the order service's events followed in its log, ddsperf next to it.
+#include <csignal>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sf/bench/cnp.hpp"
+#include "sf/bench/line.hpp"
+#include "sf/core/clock.hpp"
+#include "sf/core/process.hpp"
+
+namespace sf::bench {
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr auto kPollInterval = 100ms;
+constexpr auto kReadyLimit = 180s;  // the whole line up: plant, ten controllers, order service
+constexpr int kStartAttempts = 3;
+
+// What the line's ready line says of its order service.
+struct OrderService {
+  fs::path log;
+  std::string endpoint;
+};
+
+std::optional<OrderService> order_service_of(const std::string& line) {
+  const auto j = json::parse(line, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || j.value("event", "") != "ready" || !j.contains("processes")) {
+    return std::nullopt;
+  }
+  for (const auto& p : j["processes"]) {
+    if (p.value("name", "") == "orders") {
+      return OrderService{p.value("log", ""), p.value("opcua", "")};
+    }
+  }
+  return std::nullopt;
+}
+
+bool is_ready_line(const std::string& line) {
+  const auto j = json::parse(line, nullptr, false);
+  return !j.is_discarded() && j.is_object() && j.value("event", "") == "ready";
+}
+
+class LineBench {
+ public:
+  LineBench(const LineBenchOptions& o, const std::function<void(std::string_view)>& progress)
+      : options_(o), progress_(progress) {}
+
+  Result<LineBenchResult> run() {
+    std::error_code ec;
+    fs::create_directories(options_.run_dir, ec);
+    if (ec) {
+      return Error{Errc::io, fmt::format("{}: {}", options_.run_dir.string(), ec.message())};
+    }
+    auto layout = line::default_layout();
+    if (!layout) {
+      return layout.error();
+    }
+    orders_ = small_orders(layout->catalog, options_.orders, options_.seed);
+    auto st = start_line();
+    if (st) {
+      st = options_.arrivals == Arrivals::file ? follow_until(orders_.size()) : submit_one_at_a_time();
+    }
+    auto result = summarize(order_times(events_));
+    if (st) {
+      compare_with_ddsperf(result);
+    }
+    report("stopping the line");
+    line_.terminate(120s);
+    if (!st) {
+      return st.error();
+    }
+    return result;
+  }
+
+ private:
+  void report(std::string_view what) const {
+    if (progress_) {
+      progress_(what);
+    }
+  }
+
+  // The line, up; a start that fails (a controller that did not come up on a loaded host) is tried
+  // again, in a fresh run directory.
+  Status start_line() {
+    const auto orders_file = options_.run_dir / "orders.yaml";
+    std::ofstream(orders_file) << factory::orders_yaml(orders_);
+    Status st;
+    for (int attempt = 1; attempt <= kStartAttempts; ++attempt) {
+      st = start_line(orders_file, options_.run_dir / fmt::format("line-{}", attempt));
+      if (st) {
+        return st;
+      }
+      report(fmt::format("the line did not start ({}): attempt {} of {}", st.error().describe(), attempt,
+                         kStartAttempts));
+      line_.terminate(120s);
+    }
+    return st;
+  }
+
+  Status start_line(const fs::path& orders_file, const fs::path& dir) {
+    ProcessOptions p;
+    p.argv = {options_.smartfactory.string(), "line", "--run-dir", dir.string(), "--opcua-base-port", "0",
+              "--json", "--status-interval", "0"};
+    if (options_.arrivals == Arrivals::file) {
+      p.argv.insert(p.argv.end(), {"--orders", orders_file.string()});
+    }
+    const auto out = dir.string() + ".out";
+    p.out = Stdio::file(out);
+    p.err = Stdio::to_stdout();
+    p.parent_death_signal = SIGTERM;  // the line stops with the benchmark, however it ends
+    auto line = Process::spawn(std::move(p));
+    if (!line) {
+      return line.error();
+    }
+    line_ = std::move(*line);
+    report(fmt::format("starting the line in {}", dir.string()));
+    return wait_ready(out);
+  }
+
+  Status wait_ready(const fs::path& out) {
+    FileLines lines(out);
+    const auto limit = clock_.now() + kReadyLimit;
+    while (clock_.now() < limit) {
+      for (const auto& l : lines.read_new()) {
+        if (auto s = order_service_of(l)) {
+          service_ = *s;
+          orders_log_.emplace(service_.log);
+          report(fmt::format("the line is up; order service at {}", service_.endpoint));
+          return {};
+        }
+      }
+      if (!line_.running()) {
+        return Error{Errc::io, fmt::format("the line ended before it was up: see {}", out.string())};
+      }
+      clock_.sleep_until(clock_.now() + kPollInterval);
+    }
+    return Error{Errc::timeout, fmt::format("the line was not up within {} s", kReadyLimit.count())};
+  }
+
+  // Reads the order service's new lines: its order events, and a second ready line (a restart,
+  // which starts its clock and its orders afresh: the run is void).
+  Status read_events() {
+    for (const auto& l : orders_log_->read_new()) {
+      if (auto e = parse_order_event(l)) {
+        if (e->what == "done" || e->what == "failed") {
+          finished_.insert(e->order);
+          last_finish_ = clock_.now();
+        } else if (e->what == "remade") {
+          finished_.erase(e->order);
+        }
+        events_.push_back(std::move(*e));
+      } else if (is_ready_line(l) && ++service_starts_ > 1) {
+        return Error{Errc::state, "the order service restarted during the run (see its log)"};
+      }
+    }
+    return {};
+  }
+
+  // Follows the events until `count` orders are finished.
+  Status follow_until(std::size_t count) {
+    last_finish_ = clock_.now();
+    std::size_t reported = finished_.size();
+    while (finished_.size() < count) {
+      SF_TRY(read_events());
+      if (finished_.size() != reported) {
+        reported = finished_.size();
+        report(fmt::format("{}/{} orders finished", reported, orders_.size()));
+      }
+      if (!line_.running()) {
+        return Error{Errc::io, "the line ended during the run"};
+      }
+      if (clock_.now() - last_finish_ > options_.stall_limit) {
+        return Error{Errc::timeout, fmt::format("no order finished for {} s ({} of {} finished)",
+                                                options_.stall_limit.count(), finished_.size(), count)};
+      }
+      clock_.sleep_until(clock_.now() + kPollInterval);
+    }
+    return {};
+  }
+
+  // `smartfactory order` for each order once the one before is finished.
+  Status submit_one_at_a_time() {
+    for (std::size_t i = 0; i < orders_.size(); ++i) {
+      SF_TRY(submit(orders_[i]));
+      SF_TRY(follow_until(i + 1));
+    }
+    return {};
+  }
+
+  Status submit(const factory::Order& order) {
+    ProcessOptions p;
+    p.argv = {options_.smartfactory.string(), "order", "--server", service_.endpoint, "--id", order.id,
+              "--box", order.box_type};
+    for (const auto& l : order.lines) {
+      p.argv.insert(p.argv.end(), {"--candy", fmt::format("{}:{}", l.candy, l.quantity)});
+    }
+    p.err = Stdio::to_stdout();
+    auto done = Process::run(std::move(p), 60s);
+    if (!done) {
+      return done.error();
+    }
+    if (!done->status.success()) {
+      return Error{Errc::io, fmt::format("order {}: {}", order.id, done->out)};
+    }
+    return {};
+  }
+
+  // ddsperf ping with one pong on loopback (as the line's processes are configured), while the
+  // line stands idle: the same host load as between the orders, without the orders' work.
+  void compare_with_ddsperf(LineBenchResult& r) const {
+    report(fmt::format("ddsperf ping/pong for {} s", options_.ddsperf_duration.count()));
+    negotiation::BenchOptions d;
+    d.contractors = 1;
+    d.ddsperf_duration = options_.ddsperf_duration;
+    auto perf = negotiation::run_ddsperf(d);
+    if (!perf) {
+      r.ddsperf_error = perf.error().describe();
+      return;
+    }
+    r.ddsperf_rtt_p50_us = perf->round_trip.p50_us;
+    if (perf->round_trip.p50_us > 0 && r.first_award_ms.samples > 0) {
+      r.ratio = r.first_award_ms.p50 * 1e3 / perf->round_trip.p50_us;
+      r.ratio_after_start = r.after_start_ms.p50 * 1e3 / perf->round_trip.p50_us;
+    }
+  }
+
+  const LineBenchOptions& options_;
+  const std::function<void(std::string_view)>& progress_;
+  SteadyClock& clock_ = SteadyClock::instance();
+  std::vector<factory::Order> orders_;
+  Process line_;
+  OrderService service_;
+  std::optional<FileLines> orders_log_;
+  std::vector<LoggedOrderEvent> events_;
+  std::set<std::string> finished_;
+  Clock::time_point last_finish_{};
+  int service_starts_ = 0;
+};
+
+}  // namespace
+
+Result<LineBenchResult> run_line_bench(const LineBenchOptions& options,
+                                       const std::function<void(std::string_view)>& progress) {
+  if (options.orders == 0) {
+    return Error{Errc::invalid_argument, "at least one order"};
+  }
+  LineBench bench(options, progress);
+  return bench.run();
+}
+
+}  // namespace sf::bench

@@ -49,9 +49,10 @@ void print(const sb::LineBenchResult& r, const sb::LineBenchOptions& o) {
   fmt::print("ratio first award p50 / round trip p50: {:.0f}x; after what let it start: {:.0f}x\n",
              r.ratio.value_or(0), r.ratio_after_start.value_or(0));
   const double best = sb::kRoundTripsPerAward * rtt;
-  fmt::print("an award at best: {} round trips (ANNOUNCE → BID, AWARD → CONFIRM) = {:.1f} us; "
-             "after what let it start the award p50 is {:.0f}x that\n",
-             sb::kRoundTripsPerAward, best, r.after_start_ms.p50 * 1e3 / best);
+  fmt::print(
+      "an award at best: {} round trips (ANNOUNCE → BID, AWARD → CONFIRM) = {:.1f} us; "
+      "after what let it start the award p50 is {:.0f}x that\n",
+      sb::kRoundTripsPerAward, best, r.after_start_ms.p50 * 1e3 / best);
 }
 
 fs::path next_to_this_program(const char* relative) {
@@ -79,9 +80,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   o.run_dir = dir;
-  fmt::print("the prototype line as processes on loopback (`smartfactory line`, no cloud); {} small orders "
-             "(seed {}), {}\n",
-             o.orders, o.seed, sb::to_string(o.arrivals));
+  fmt::print(
+      "the prototype line as processes on loopback (`smartfactory line`, no cloud); {} small orders "
+      "(seed {}), {}\n",
+      o.orders, o.seed, sb::to_string(o.arrivals));
   auto& clock = sf::SteadyClock::instance();
   const auto t0 = clock.now();
   auto r = sb::run_line_bench(o, [&](std::string_view what) {

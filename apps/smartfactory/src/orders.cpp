@@ -220,7 +220,9 @@ void register_orders(CLI::App& app, CommandResult& result) {
       app.add_subcommand("orders", "The order service: orders become products negotiating over DDS");
   service->add_option("--config", s->config, "The service's YAML file (layout, wip, orders, OPC UA, DDS)")
       ->required();
-  service->add_flag("--json", s->json, "Events as JSON lines on stdout (ready, order, status)");
+  service->add_flag("--json", s->json,
+                    "Events as JSON lines on stdout: ready, status, and every order event "
+                    "(t: seconds since the start, order, what, machine, detail)");
   service->add_option("--status-interval", s->status_interval_s, "Seconds between status lines")
       ->capture_default_str();
   service->footer(kOrdersHelp);

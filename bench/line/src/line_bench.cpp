@@ -106,8 +106,15 @@ class LineBench {
 
   Status start_line(const fs::path& orders_file, const fs::path& dir) {
     ProcessOptions p;
-    p.argv = {options_.smartfactory.string(), "line", "--run-dir", dir.string(), "--opcua-base-port", "0",
-              "--json", "--status-interval", "0"};
+    p.argv = {options_.smartfactory.string(),
+              "line",
+              "--run-dir",
+              dir.string(),
+              "--opcua-base-port",
+              "0",
+              "--json",
+              "--status-interval",
+              "0"};
     if (options_.arrivals == Arrivals::file) {
       p.argv.insert(p.argv.end(), {"--orders", orders_file.string()});
     }
@@ -196,8 +203,14 @@ class LineBench {
 
   Status submit(const factory::Order& order) {
     ProcessOptions p;
-    p.argv = {options_.smartfactory.string(), "order", "--server", service_.endpoint, "--id", order.id,
-              "--box", order.box_type};
+    p.argv = {options_.smartfactory.string(),
+              "order",
+              "--server",
+              service_.endpoint,
+              "--id",
+              order.id,
+              "--box",
+              order.box_type};
     for (const auto& l : order.lines) {
       p.argv.insert(p.argv.end(), {"--candy", fmt::format("{}:{}", l.candy, l.quantity)});
     }

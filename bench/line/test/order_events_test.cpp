@@ -40,8 +40,8 @@ TEST(OrderEventLines, OnlyTheOrderEventsAreRead) {
 
 TEST(OrderTimes, FirstAwardAndDoneOfEachOrderInAcceptanceOrder) {
   const std::vector<LoggedOrderEvent> events{
-      event(0.0, "a", "accepted"), event(0.0, "b", "accepted"), event(0.02, "a", "awarded"),
-      event(1.5, "a", "uploaded"), event(1.51, "a", "awarded"),  // a's second award is not its first
+      event(0.0, "a", "accepted"),    event(0.0, "b", "accepted"), event(0.02, "a", "awarded"),
+      event(1.5, "a", "uploaded"),    event(1.51, "a", "awarded"),  // a's second award is not its first
       event(5.0, "a", "transported"), event(5.03, "b", "awarded"), event(28.0, "a", "done"),
       event(40.0, "b", "done")};
   const auto times = order_times(events);
@@ -60,11 +60,11 @@ TEST(OrderTimes, FirstAwardAndDoneOfEachOrderInAcceptanceOrder) {
 // later (one order at a time).
 TEST(OrderTimes, TheWaitBeforeTheFirstAwardEndsAtTheLatestEventOfAnotherOrder) {
   const std::vector<LoggedOrderEvent> events{
-      event(0.0, "a", "accepted"),    event(0.0, "b", "accepted"), event(0.0, "c", "accepted"),
-      event(0.02, "a", "awarded"),    event(5.0, "a", "transported"), event(5.02, "b", "awarded"),
-      event(28.0, "a", "done"),       event(28.01, "b", "loaded"),    event(28.0, "c", "retry"),
-      event(28.03, "c", "awarded"),   event(40.0, "b", "done"),       event(41.0, "c", "done"),
-      event(50.0, "d", "accepted"),   event(50.02, "d", "awarded")};
+      event(0.0, "a", "accepted"),  event(0.0, "b", "accepted"),    event(0.0, "c", "accepted"),
+      event(0.02, "a", "awarded"),  event(5.0, "a", "transported"), event(5.02, "b", "awarded"),
+      event(28.0, "a", "done"),     event(28.01, "b", "loaded"),    event(28.0, "c", "retry"),
+      event(28.03, "c", "awarded"), event(40.0, "b", "done"),       event(41.0, "c", "done"),
+      event(50.0, "d", "accepted"), event(50.02, "d", "awarded")};
   const auto times = order_times(events);
   ASSERT_EQ(times.size(), 4U);
   EXPECT_EQ(times[0].started_by, "accepted");
@@ -80,9 +80,9 @@ TEST(OrderTimes, TheWaitBeforeTheFirstAwardEndsAtTheLatestEventOfAnotherOrder) {
 // A failed attempt that is remade is not the order's end; a failure without a remake is.
 TEST(OrderTimes, AnOrderRemadeEndsWithItsLastAttempt) {
   const std::vector<LoggedOrderEvent> events{
-      event(0.0, "a", "accepted"), event(0.1, "a", "awarded"), event(30.0, "a", "failed"),
-      event(30.0, "a", "remade"),  event(30.1, "a", "awarded"), event(60.0, "a", "done"),
-      event(61.0, "b", "accepted"), event(90.0, "b", "failed"), event(90.0, "z", "done")};  // z unknown
+      event(0.0, "a", "accepted"),  event(0.1, "a", "awarded"),  event(30.0, "a", "failed"),
+      event(30.0, "a", "remade"),   event(30.1, "a", "awarded"), event(60.0, "a", "done"),
+      event(61.0, "b", "accepted"), event(90.0, "b", "failed"),  event(90.0, "z", "done")};  // z unknown
   const auto times = order_times(events);
   ASSERT_EQ(times.size(), 2U);
   EXPECT_DOUBLE_EQ(*times[0].first_award, 0.1);

@@ -96,15 +96,15 @@ struct Percentiles {
 struct LineBenchResult {
   std::size_t done = 0;
   std::size_t failed = 0;
-  double span_s = 0;            // first acceptance → last order finished
-  Percentiles first_award_ms;   // accepted → first award
-  Percentiles after_start_ms;   // OrderTimes::started_at → first award
+  double span_s = 0;                                            // first acceptance → last order finished
+  Percentiles first_award_ms;                                   // accepted → first award
+  Percentiles after_start_ms;                                   // OrderTimes::started_at → first award
   std::vector<std::pair<std::string, std::size_t>> started_by;  // counts by OrderTimes::started_by
-  Percentiles lead_time_s;      // accepted → done, of the orders done
+  Percentiles lead_time_s;                                      // accepted → done, of the orders done
   std::optional<double> ddsperf_rtt_p50_us;
   std::optional<double> ratio;              // first award p50 / ddsperf round trip p50
   std::optional<double> ratio_after_start;  // after_start p50 / ddsperf round trip p50
-  std::string ddsperf_error;    // why there is no round trip
+  std::string ddsperf_error;                // why there is no round trip
 };
 
 Percentiles percentiles(std::vector<double> samples);

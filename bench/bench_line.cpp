@@ -95,5 +95,9 @@ int main(int argc, char** argv) {
   }
   print(*r, o);
   fmt::print("run directory: {} (every process's log)\n", dir);
+  if (!r->incomplete.empty()) {
+    fmt::print("incomplete: {}\n", r->incomplete);
+    return 1;
+  }
   return 0;
 }

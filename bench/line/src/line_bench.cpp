@@ -63,19 +63,19 @@ class LineBench {
       return layout.error();
     }
     orders_ = small_orders(layout->catalog, options_.orders, options_.seed);
-    auto st = start_line();
-    if (st) {
-      st = options_.arrivals == Arrivals::file ? follow_until(orders_.size()) : submit_one_at_a_time();
-    }
-    auto result = summarize(order_times(events_));
-    if (st) {
-      compare_with_ddsperf(result);
-    }
-    report("stopping the line");
-    line_.terminate(120s);
-    if (!st) {
+    if (auto st = start_line(); !st) {
       return st.error();
     }
+    // A line that stops making progress still gives the figures of the orders it finished.
+    const auto st =
+        options_.arrivals == Arrivals::file ? follow_until(orders_.size()) : submit_one_at_a_time();
+    auto result = summarize(order_times(events_));
+    if (!st) {
+      result.incomplete = st.error().describe();
+    }
+    compare_with_ddsperf(result);
+    report("stopping the line");
+    line_.terminate(120s);
     return result;
   }
 

@@ -105,6 +105,7 @@ struct LineBenchResult {
   std::optional<double> ratio;              // first award p50 / ddsperf round trip p50
   std::optional<double> ratio_after_start;  // after_start p50 / ddsperf round trip p50
   std::string ddsperf_error;                // why there is no round trip
+  std::string incomplete;  // why the run ended before every order was finished (empty: it did not)
 };
 
 Percentiles percentiles(std::vector<double> samples);
@@ -112,8 +113,9 @@ Percentiles percentiles(std::vector<double> samples);
 LineBenchResult summarize(const std::vector<OrderTimes>& orders);
 
 // Starts the line, feeds it the orders, follows the order service's events until every order is
-// done or failed, then runs ddsperf while the line stands idle, and stops the line. Progress goes
-// to `progress`.
+// done or failed (or none finishes for stall_limit: then the figures are of those finished, and
+// `incomplete` says why), then runs ddsperf while the line stands idle, and stops the line.
+// Progress goes to `progress`. An error only when the line could not be started.
 Result<LineBenchResult> run_line_bench(const LineBenchOptions& options,
                                        const std::function<void(std::string_view)>& progress = {});
 

@@ -182,7 +182,7 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   if (!p) {
     return p.error();
   }
-  SF_TRY(fy::write_cloud_config(*p));
+  SF_TRY(fy::prepare_run_dir(*p));
   return p;
 }
 

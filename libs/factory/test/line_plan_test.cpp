@@ -208,6 +208,21 @@ TEST(LinePlan, OptionalProcessesAndFreePorts) {
   EXPECT_NE(other->options.partition, plan->options.partition);
 }
 
+TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
+  testing::TempDir dir;
+  auto o = options(dir.path() / "run");
+  o.historian = "sqlite:" + (dir.path() / "history.db").string();
+  auto plan = plan_line(o);
+  ASSERT_TRUE(plan) << plan.error().describe();
+  ASSERT_NE(find(*plan, "cloud"), nullptr);
+  EXPECT_EQ(plan->options.cloud_config, dir.path() / "run" / "config" / "cloud.yaml");
+  ASSERT_TRUE(prepare_run_dir(*plan));
+  std::ifstream in(plan->options.cloud_config);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, cloud_config_yaml(*plan));
+  EXPECT_NE(text.find(o.historian), std::string::npos) << text;
+}
+
 TEST(LinePlan, BadOptionsAreRefusedBeforeAnythingStarts) {
   testing::TempDir dir;
   auto expect_refused = [&](LineOptions o, std::string_view words) {

@@ -216,6 +216,16 @@ Status write_cloud_config(const LinePlan& plan) {
   return {};
 }
 
+Status prepare_run_dir(const LinePlan& plan) {
+  std::error_code ec;
+  fs::create_directories(plan.options.run_dir, ec);
+  if (ec) {
+    return make_error(Errc::io,
+                      fmt::format("run directory {}: {}", plan.options.run_dir.string(), ec.message()));
+  }
+  return plan.options.historian.empty() ? Status{} : write_cloud_config(plan);
+}
+
 Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEndpoint>& endpoints) {
   for (const auto& p : plan.processes) {
     if (p.config.empty()) {

@@ -103,6 +103,8 @@ Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEnd
 std::string cloud_config_yaml(const LinePlan& plan);
 // Writes it to plan.options.cloud_config.
 Status write_cloud_config(const LinePlan& plan);
+// Creates the run directory and, for a plan with `historian` set, writes the cloud's configuration.
+Status prepare_run_dir(const LinePlan& plan);
 
 // The processes for a Supervisor: argv, ready lines, and the plant's ready line writing the
 // controllers' configurations.

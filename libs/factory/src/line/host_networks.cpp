@@ -1,7 +1,11 @@
 // HostNetworks (line_hosts.hpp): the plan's `ip` commands run, and everything removed again.
+#include <fcntl.h>
+#include <sched.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -76,6 +80,29 @@ Status hosts_supported() {
     }
   }
   return {};
+}
+
+Status with_netns(const std::string& netns, const std::function<void()>& fn) {
+  const std::string target_path = (kNetnsDir / netns).string();
+  const int target = ::open(target_path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (target < 0) {
+    return make_error(Errc::not_found, fmt::format("network namespace {}: {}", netns, std::strerror(errno)));
+  }
+  const int own = ::open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
+  Status st;
+  if (own < 0 || ::setns(target, CLONE_NEWNET) != 0) {
+    st = make_error(Errc::io, fmt::format("entering the network namespace {}: {}", netns, std::strerror(errno)));
+  } else {
+    fn();
+    if (::setns(own, CLONE_NEWNET) != 0) {
+      st = make_error(Errc::io, fmt::format("leaving the network namespace {}: {}", netns, std::strerror(errno)));
+    }
+  }
+  ::close(target);
+  if (own >= 0) {
+    ::close(own);
+  }
+  return st;
 }
 
 std::vector<std::string> existing_namespaces(const std::vector<std::string>& names) {

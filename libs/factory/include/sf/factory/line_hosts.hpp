@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -125,6 +126,11 @@ class HostNetworks {
   HostPlan plan_;
   bool made_ = false;
 };
+
+// Runs `fn` on this thread inside the namespace `netns`, then takes the thread back to its own.
+// Sockets fn opens, and threads it starts (an OPC UA client's loop thread), stay in `netns`: how a
+// program outside the line reaches a process on one of its networks.
+Status with_netns(const std::string& netns, const std::function<void()>& fn);
 
 // The namespaces of `names` that exist now (in /run/netns).
 std::vector<std::string> existing_namespaces(const std::vector<std::string>& names);

@@ -100,19 +100,32 @@ def history(db, *args):
     return json.loads(proc.stdout) if proc.returncode == 0 else None
 
 
-def check_history(db):
+def machine_state(endpoint, machine, ns=None):
+    """A controller's PackML StateCurrent over its own OPC UA server (None when unreadable)."""
+    node = f"nsu=urn:smartfactory:machines;s={node_name(machine)}.PackML.Status.StateCurrent"
+    proc = run([binary(), "opcua", "read", "--json", endpoint, node], ns=ns, check_rc=False)
+    try:
+        value = json.loads(proc.stdout)[0]
+    except (json.JSONDecodeError, IndexError):
+        return None
+    return value.get("value") if value["status"] == "Good" else None
+
+
+def check_history(db, states=None):
     """The historian holds every machine's PackML state (from the moment the cloud found it: the
     cloud starts after the controllers) and every box's inspection (the order service's
-    LastInspection series, one per order)."""
+    LastInspection series, one per order). `states`: each machine's state now (default: Execute,
+    on a line without faults), which the historian's last sample must be."""
     series = history(db, "series") or []
     print(json.dumps(series[:3], indent=1), flush=True)
     for machine in CONTROLLERS:
+        expected = EXECUTE if states is None else states[machine]
         path = f"/Objects/Machines/{node_name(machine)}/PackML/Status/StateCurrent"
         samples = history(db, "query", "--series", path, "--server", machine, "--from", "-1h") or {"samples": []}
-        states = [s["value"] for s in samples["samples"]]
-        # What it holds from then on is the state it found and every change since (none on a line
-        # without faults).
-        check(states and states[-1] == EXECUTE, f"the historian holds {machine}'s PackML state: {states[:12]}")
+        states_seen = [s["value"] for s in samples["samples"]]
+        # What it holds is the state it found and every change since.
+        check(states_seen and states_seen[-1] == expected,
+              f"the historian holds {machine}'s PackML state ({expected} now): {states_seen[:12]}")
     events = history(db, "query", "--series", "/Objects/OrderService/LastInspection", "--server", "orders",
                      "--from", "-1h") or {"samples": []}
     inspected = {str(e["value"]).split()[0] for e in events["samples"] if e["value"]}

@@ -1,5 +1,7 @@
 // The line on several hosts (line_hosts.hpp): each process's namespace, interfaces and addresses,
 // the `ip` commands they imply, and the processes' arguments and configurations that use them.
+#include <unistd.h>
+
 #include <algorithm>
 #include <map>
 #include <set>
@@ -14,6 +16,7 @@
 #include "sf/factory/line_supervisor.hpp"
 #include "sf/factory/machine_config.hpp"
 #include "sf/factory/order_service.hpp"
+#include "sf/core/process.hpp"
 #include "sf/testing/temp_dir.hpp"
 
 namespace sf::factory {
@@ -22,6 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using line_rig::find;
 using K = HostNetworkKind;
+using namespace std::chrono_literals;
 
 // The default layout with the cloud and the order service, each process in its namespace.
 Result<LinePlan> hosts_plan(const fs::path& run_dir) {
@@ -288,6 +292,84 @@ TEST(HostPlan, PlansThatCannotBeMadeAreRefused) {
   processes = plan->processes;
   processes.back().name = "a/b";
   EXPECT_FALSE(plan_hosts("sf-x", processes));
+}
+
+// Runs a command to its end; its output (empty when it failed).
+std::string output_of(std::vector<std::string> argv) {
+  ProcessOptions o;
+  o.argv = std::move(argv);
+  o.in = Stdio::null();
+  o.err = Stdio::null();
+  auto done = Process::run(std::move(o), 10s);
+  return done && done->status.success() ? done->out : std::string();
+}
+
+// The executor against the kernel: needs root (network namespaces), skipped otherwise.
+class HostNetworksTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (auto st = hosts_supported(); !st) {
+      GTEST_SKIP() << st.error().message;
+    }
+    auto p = hosts_plan(dir_.path());
+    ASSERT_TRUE(p) << p.error().describe();
+    // The plant and the smart robot only: a cable and the field, DDS and OPC UA networks.
+    std::vector<LineProcess> two(p->processes.begin(), p->processes.begin() + 2);
+    auto hosts = plan_hosts(fmt::format("sf-t{:x}", ::getpid()), two);
+    ASSERT_TRUE(hosts) << hosts.error().describe();
+    plan_ = std::move(*hosts);
+  }
+  void TearDown() override {
+    for (const auto& ns : existing_namespaces(plan_.namespaces())) {
+      output_of({"ip", "netns", "del", ns});
+    }
+  }
+  static std::string links(const std::string& netns) { return output_of({"ip", "-n", netns, "-o", "link"}); }
+
+  testing::TempDir dir_;
+  HostPlan plan_;
+};
+
+TEST_F(HostNetworksTest, MakesThePlanAndRemovesIt) {
+  auto made = HostNetworks::create(plan_);
+  ASSERT_TRUE(made) << made.error().describe();
+  EXPECT_EQ(existing_namespaces(plan_.namespaces()), plan_.namespaces());
+  const auto robot = links(plan_.hosts[1].netns);
+  EXPECT_NE(robot.find("ecat0@"), std::string::npos) << robot;
+  EXPECT_NE(robot.find("dds0@"), std::string::npos) << robot;
+  EXPECT_NE(links(plan_.line_netns).find("master br-dds"), std::string::npos) << links(plan_.line_netns);
+  EXPECT_TRUE((*made)->remove());
+  EXPECT_TRUE(existing_namespaces(plan_.namespaces()).empty());
+  EXPECT_TRUE((*made)->remove());  // idempotent
+}
+
+TEST_F(HostNetworksTest, AFailedSetupRemovesWhatItMade) {
+  plan_.hosts[1].interfaces.back().peer = "a-name-longer-than-ifnamsiz";
+  auto made = HostNetworks::create(plan_);
+  ASSERT_FALSE(made);
+  EXPECT_NE(made.error().message.find("a-name-longer-than-ifnamsiz"), std::string::npos) << made.error().message;
+  EXPECT_TRUE(existing_namespaces(plan_.namespaces()).empty());
+}
+
+TEST_F(HostNetworksTest, NamespacesACrashedRunLeftAreRemovedFirst) {
+  output_of({"ip", "netns", "add", plan_.hosts[0].netns});
+  ASSERT_EQ(existing_namespaces({plan_.hosts[0].netns}).size(), 1U);
+  std::vector<std::string> removed;
+  auto made = HostNetworks::create(plan_, &removed);
+  ASSERT_TRUE(made) << made.error().describe();
+  EXPECT_EQ(removed, std::vector<std::string>{plan_.hosts[0].netns});
+  EXPECT_NE(links(plan_.hosts[0].netns).find("field0@"), std::string::npos);
+}
+
+TEST_F(HostNetworksTest, CodeRunsInANamespaceAndTheThreadComesBack) {
+  auto made = HostNetworks::create(plan_);
+  ASSERT_TRUE(made) << made.error().describe();
+  const auto own = fs::read_symlink("/proc/thread-self/ns/net");
+  fs::path inside;
+  ASSERT_TRUE(with_netns(plan_.hosts[0].netns, [&] { inside = fs::read_symlink("/proc/thread-self/ns/net"); }));
+  EXPECT_NE(inside, own);
+  EXPECT_EQ(fs::read_symlink("/proc/thread-self/ns/net"), own);
+  EXPECT_FALSE(with_netns("sf-no-such-namespace", [] {}));
 }
 
 }  // namespace

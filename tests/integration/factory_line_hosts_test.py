@@ -21,11 +21,12 @@ import subprocess
 import tempfile
 import uuid
 
-from factory_checks import (CONTROLLERS, check_dds_layout, check_history, check_orders_done, history, machine_state,
-                            stop_line, wait_ready, write_orders)
+from line_harness import (CONTROLLERS, EXECUTE, check_dds_layout, check_history, check_orders_done, history, machine_state,
+                          stop_line, wait_ready, write_orders)
 from sftest import Background, binary, check, json_events, run, skip, wait_for
 
 PARTITION = f"factory-hosts-{uuid.uuid4().hex[:8]}"
+ORDERS = 20
 ETHERCAT = "0x88a4"  # ETG.1000.4 §5.2: EtherCAT frames' EtherType
 
 
@@ -178,7 +179,7 @@ def main():
         check_failed_start(tmp, run_dir, prefix)
 
         orders = os.path.join(tmp, "orders.yaml")
-        write_orders(orders)
+        ids = [order_id for order_id, _ in write_orders(orders, ORDERS, seed=24)]
         db = f"sqlite:{tmp}/history.db"
         line = Background([binary(), "line", "--hosts", "--run-dir", run_dir, "--partition", PARTITION,
                            "--orders", orders, "--historian", db, "--json", "--status-interval", "5"],
@@ -194,15 +195,14 @@ def main():
             check_dds_layout(PARTITION, ns=by_name["orders"]["netns"], interface="dds0")
             endpoint = by_name["orders"]["opcua"]
             check(endpoint.startswith("opc.tcp://10.77.3."), f"the order service serves on its OPC UA address: {endpoint}")
-            check_orders_done(endpoint, ns=by_name["cloud"]["netns"])
-            wait_for(lambda: history(db, "series") is not None, 30, "the historian has series")
-            # The machines' states now, as their own servers tell the cloud's namespace. A smart
-            # robot whose segment lost frames on a starved host (its master gives up after 4 x 2 ms)
-            # is Aborted, not in Execute: the historian must hold whichever it is.
+            check_orders_done(endpoint, ORDERS, ns=by_name["cloud"]["netns"])
+            wait_for(lambda: history(tmp, "series") is not None, 30, "the historian has series")
+            # Every machine in Execute (no faults on this line), as its own server tells the cloud's
+            # namespace, and as the historian holds it.
             states = {name: machine_state(by_name[name]["opcua"], name, by_name["cloud"]["netns"])
                       for name in CONTROLLERS}
-            print(f"the machines' states now: {states}", flush=True)
-            check_history(db, states)
+            check(set(states.values()) == {EXECUTE}, f"every machine in Execute: {states}")
+            check_history(tmp, ids)
             # Last, so the captures' load cannot disturb the production the checks above count;
             # every protocol still talks (EtherCAT cycles, Modbus polls, DDS discovery, OPC UA).
             check_separation(ready, plant_modbus_ports(run_dir))

@@ -4,9 +4,10 @@ the order service (OPC UA counters, its event lines), the plant (control port) a
 import json
 import os
 import random
+import signal
 import socket
 
-from sftest import binary, check, fail, run
+from sftest import binary, check, fail, json_events, run, wait_for
 
 CONTROLLERS = ["scara-robot-1", "conveyor1", "conveyor2", "conveyor3", "conveyor4", "conveyor5",
                "uploader", "downloader", "toshiba", "denso"]
@@ -72,15 +73,96 @@ def write_cloud_config(tmp, base):
     return path
 
 
-def order_counter(endpoint, name):
-    """One of the order service's counters (OrderService.Done, ...) over OPC UA; None without answer."""
-    proc = run([binary(), "opcua", "read", "--json", endpoint, f"nsu=urn:smartfactory:orders;s=OrderService.{name}"],
-               check_rc=False)
+def read_value(endpoint, node, ns=None):
+    """A node's value over OPC UA (`opcua read`, in the network namespace `ns` when given); None
+    without a Good answer."""
+    proc = run([binary(), "opcua", "read", "--json", endpoint, node], ns=ns, check_rc=False)
     try:
         value = json.loads(proc.stdout)[0]
     except (json.JSONDecodeError, IndexError):
         return None
     return value.get("value") if value["status"] == "Good" else None
+
+
+def order_counter(endpoint, name, ns=None):
+    """One of the order service's counters (OrderService.Done, ...) over OPC UA; None without answer."""
+    return read_value(endpoint, f"nsu=urn:smartfactory:orders;s=OrderService.{name}", ns)
+
+
+def machine_state(endpoint, machine, ns=None):
+    """A controller's PackML StateCurrent over its own OPC UA server; None without answer."""
+    return read_value(endpoint, f"nsu=urn:smartfactory:machines;s={node_name(machine)}.PackML.Status.StateCurrent", ns)
+
+
+def check_orders_done(endpoint, count, ns=None, timeout=900):
+    """Waits until `count` orders are finished: every one done once, none failed, remade or left
+    in work. Asks every 3 s (each question starts two clients, which load the line)."""
+    wait_for(lambda: (order_counter(endpoint, "Done", ns) or 0) + (order_counter(endpoint, "Failed", ns) or 0) >= count,
+             timeout, f"{count} orders finished", interval=3)
+    done, failed = order_counter(endpoint, "Done", ns), order_counter(endpoint, "Failed", ns)
+    check(done == count and failed == 0, f"every order done: {done} done, {failed} failed")
+    check(order_counter(endpoint, "Remade", ns) == 0 and order_counter(endpoint, "InWork", ns) == 0,
+          "no box made twice, none left in work")
+
+
+def topics(entities):
+    return sorted(e["topic"] for e in entities)
+
+
+def check_dds_layout(partition, ns=None, interface=None):
+    """The DDS layout of every process is the paper's (Fig. 4), as the built-in topics show it to
+    others (`smartfactory cnp layout`, in `ns` on `interface` when given): the order service one
+    product process for upload, load, download and transport; each gateway and the smart robot's
+    IPC a machine for its operations; each conveyor's gateway also a conveyor."""
+    args = [binary(), "cnp", "layout", "--partition", partition, "--json"]
+    if interface:
+        args += ["--interface", interface, "--settle-ms", "4000"]
+    seen = json.loads(run(args, ns=ns, timeout=60).stdout)
+    by_name = {}
+    for p in seen:  # one entry per participant: "role/name" in one domain
+        by_name.setdefault(p["participant"], {})[p["domain"]] = (topics(p["readers"]), topics(p["writers"]))
+    ops = ["download", "load", "transport", "upload"]
+    product = {10: (sorted(f"{o}_BID" for o in ops), sorted([f"{o}_ANNOUNCE" for o in ops] + [f"{o}_AWARD" for o in ops])),
+               11: (["INFORM"], ["REQUEST"])}
+    check(by_name.get("product/order-service") == product,
+          f"the order service is one product process of Fig. 4: {by_name.get('product/order-service')}")
+
+    def machine(op):
+        return (sorted([f"{op}_ANNOUNCE", f"{op}_AWARD"]), [f"{op}_BID"])
+
+    for name, op in [("uploader", "upload"), ("downloader", "download"), ("toshiba", "load"), ("denso", "load"),
+                     ("scara-robot-1", "load")]:
+        check(by_name.get(f"machine/{name}") == {10: machine(op)}, f"{name} is a machine for {op}: "
+              f"{by_name.get(f'machine/{name}')}")
+    for belt in ["conveyor1", "conveyor2", "conveyor3", "conveyor4", "conveyor5"]:
+        check(by_name.get(f"machine/{belt}") == {10: machine("transport")} and
+              by_name.get(f"conveyor/{belt}") == {11: (["REQUEST"], ["INFORM"])},
+              f"{belt}'s gateway is a transport contractor and a conveyor")
+
+
+def wait_ready(line, timeout=180):
+    """The `ready` event of a `smartfactory line --json` in the background, once every process is up."""
+    wait_for(lambda: json_events(line.output(), "ready") or not line.alive(), timeout, "every process up")
+    if not line.alive():
+        fail(f"the line ended before it was up:\n{line.output()}")
+    return json_events(line.output(), "ready")[0]
+
+
+def stop_line(line, run_dir, logs=("orders", "cloud")):
+    """SIGINT to a running line; its exit code (None when it did not end in 2 minutes), with the
+    tails of some of its processes' logs printed for whoever reads a failure."""
+    if line.alive():
+        line.proc.send_signal(signal.SIGINT)
+    try:
+        rc = line.proc.wait(timeout=120)
+    except Exception:  # noqa: BLE001 - reported by the caller
+        rc = None
+    line.stop()
+    for name in logs:
+        log = os.path.join(run_dir, "log", f"{name}.log")
+        if os.path.exists(log):
+            print(f"--- {name}.log (tail)\n" + "".join(open(log).readlines()[-30:]), flush=True)
+    return rc
 
 
 def order_events(run_dir):
@@ -137,3 +219,17 @@ def check_inspections(tmp, order_ids):
     missing = sorted(set(order_ids) - inspected)
     check(not missing, f"the historian holds every box's inspection ({len(order_ids) - len(missing)} of "
           f"{len(order_ids)}; missing {missing})")
+
+
+def check_history(tmp, order_ids, states=None):
+    """The historian holds every machine's PackML state and every box's inspection. The cloud starts
+    after the controllers reached Execute; it reads back their states from then on (HistoryRead)
+    and every change since. `states`: each machine's state now (default: Execute, on a line
+    without faults), which must be the historian's last."""
+    series = history(tmp, "series") or []
+    print(json.dumps(series[:3], indent=1), flush=True)
+    for machine in CONTROLLERS:
+        expected = EXECUTE if states is None else states[machine]
+        seen = history_values(tmp, machine, f"/Objects/Machines/{node_name(machine)}/PackML/Status/StateCurrent")
+        check(seen and seen[-1] == expected, f"the historian holds {machine}'s PackML state ({expected} now): {seen[:12]}")
+    check_inspections(tmp, order_ids)

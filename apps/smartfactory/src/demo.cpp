@@ -15,6 +15,7 @@
 
 #include "commands.hpp"
 #include "sf/core/clock.hpp"
+#include "sf/factory/line_hosts.hpp"
 #include "sf/factory/line_supervisor.hpp"
 #include "sf/factory/order.hpp"
 #include "sf/line/ontology.hpp"
@@ -39,6 +40,8 @@ constexpr const char* kDemoHelp =
     "machine's utilisation (the share of the run it had a job in work). Ends after\n"
     "--orders are finished, after --duration seconds, or on Ctrl-C. The run directory keeps every\n"
     "process's configuration and log and the historian (smartfactory history query --db ...).\n"
+    "With --hosts (root), each process runs in a network namespace of its own with an interface\n"
+    "per protocol, as `smartfactory line --hosts` (its --help has the networks and addresses).\n"
     "Exit: 0 when every order was done, 1 when one failed or was lost, 2 on bad options.";
 
 struct DemoOptions {
@@ -47,6 +50,7 @@ struct DemoOptions {
   std::uint64_t seed = 1;
   std::string run_dir;
   bool json = false;
+  bool hosts = false;
 };
 
 struct Counts {
@@ -55,14 +59,30 @@ struct Counts {
   bool operator==(const Counts&) const = default;
 };
 
-// The order service's counters over its OPC UA server (OrderService.*).
+// The order service's counters over its OPC UA server (OrderService.*); with hosts, the client
+// lives in the order service's namespace (its address is only on the OPC UA network).
 class OrderServiceView {
  public:
-  explicit OrderServiceView(std::uint16_t port) {
+  static Result<OrderServiceView> open(const fy::LinePlan& plan) {
     ua::ClientConfig c;
-    c.endpoint_url = fmt::format("opc.tcp://127.0.0.1:{}", port);
     c.session_name = "smartfactory demo";
-    client_ = std::make_unique<ua::SyncClient>(c);
+    OrderServiceView view;
+    for (const auto& p : plan.processes) {
+      if (p.role != fy::LineRole::orders) {
+        continue;
+      }
+      const auto* host = plan.host_of(p);
+      c.endpoint_url = fmt::format("opc.tcp://{}:{}",
+                                   host != nullptr ? host->address(fy::HostNetworkKind::opcua) : "127.0.0.1",
+                                   p.opcua_port);
+      if (host == nullptr) {
+        view.client_ = std::make_unique<ua::SyncClient>(c);
+        return view;
+      }
+      SF_TRY(fy::with_netns(host->netns, [&] { view.client_ = std::make_unique<ua::SyncClient>(c); }));
+      return view;
+    }
+    return make_error(Errc::not_found, "the line has no order service");
   }
   Result<Counts> read() {
     if (client_->state() != ua::ClientState::Connected) {
@@ -166,6 +186,7 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   line.opcua_base_port = 0;
   line.historian = fmt::format("sqlite:{}", fs::absolute(run_dir / "history.db").string());
   line.orders_file = run_dir / "orders.yaml";
+  line.hosts = o.hosts;
   auto layout = line::default_layout();
   if (!layout) {
     return layout.error();
@@ -182,13 +203,17 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   if (!p) {
     return p.error();
   }
-  SF_TRY(fy::write_cloud_config(*p));
+  SF_TRY(fy::prepare_run_dir(*p));
   return p;
 }
 
 int run_demo(const DemoOptions& o) {
   if (o.orders == 0) {
     std::cerr << "demo: --orders must be at least 1\n";
+    return kExitUsage;
+  }
+  if (auto st = o.hosts ? fy::hosts_supported() : Status{}; !st) {
+    std::cerr << "demo: " << st.error().message << "\n";
     return kExitUsage;
   }
   fs::path run_dir = o.run_dir;
@@ -208,18 +233,28 @@ int run_demo(const DemoOptions& o) {
   std::cerr << fmt::format("demo: {} orders on the line {}; {} processes; run directory {}\n", o.orders,
                            p->layout.line, p->processes.size(), run_dir.string());
   install_stop_signals();
+  std::unique_ptr<fy::HostNetworks> networks;  // removed after the supervisor stopped everything
+  if (p->hosts) {
+    auto made = fy::HostNetworks::create(*p->hosts);
+    if (!made) {
+      std::cerr << "demo: " << made.error().message << "\n";
+      return kExitFailure;
+    }
+    networks = std::move(*made);
+  }
   auto& clock = SteadyClock::instance();
   fy::Supervisor supervisor(fy::supervised_processes(*p), fy::line_supervisor_options(*p), clock);
   if (auto st = supervisor.start(stop_requested); !st) {
     std::cerr << "demo: " << st.error().message << "\n";
     return stop_requested() ? kExitOk : kExitFailure;
   }
-  std::uint16_t port = 0;
-  for (const auto& proc : p->processes) {
-    port = proc.role == fy::LineRole::orders ? proc.opcua_port : port;
-  }
   std::cerr << "demo: the line is up; orders go in\n";
-  OrderServiceView view(port);
+  auto opened = OrderServiceView::open(*p);
+  if (!opened) {
+    std::cerr << "demo: " << opened.error().message << "\n";
+    return kExitFailure;
+  }
+  auto& view = *opened;
   const auto started = clock.now();
   const auto limit =
       o.duration_s > 0
@@ -293,6 +328,7 @@ void register_demo(CLI::App& app, CommandResult& result) {
   cmd->add_option("--run-dir", o->run_dir,
                   "Where configurations, logs and the historian go (default: a new temp dir)");
   cmd->add_flag("--json", o->json, "Progress and summary as JSON lines");
+  cmd->add_flag("--hosts", o->hosts, "Each process in a network namespace of its own (root; see below)");
   cmd->footer(kDemoHelp);
   cmd->callback([o, &result] { result.exit_code = run_demo(*o); });
 }

@@ -11,10 +11,12 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "sf/core/clock.hpp"
+#include "sf/factory/line_hosts.hpp"
 #include "sf/factory/line_supervisor.hpp"
 
 namespace sf::app {
@@ -38,7 +40,17 @@ constexpr const char* kLineHelp =
     "A process that exits is started again after a back-off (0.5 s doubling to 10 s; given\n"
     "up after 10 exits in a row); SIGINT or SIGTERM stops them in reverse order (exit 0).\n"
     "Exit 2: a bad layout or option, nothing started; exit 1: a process did not come up\n"
-    "(its name and last log lines are printed, everything started is stopped).";
+    "(its name and last log lines are printed, everything started is stopped).\n"
+    "\n"
+    "--hosts (root only, else exit 2): each process in a network namespace of its own\n"
+    "(sf-XXXXXX-<process>, XXXXXX from the run directory), with an interface per protocol:\n"
+    "  ecat0   a veth cable from the plant to each smart robot (raw EtherCAT, no IP)\n"
+    "  field0  Modbus TCP, gateways to the plant's PLCs        10.77.1.0/24, plant 10.77.1.1\n"
+    "  dds0    the Contract Net: orders, machines, gateways     10.77.2.0/24\n"
+    "  opcua0  controllers and the order service to the cloud  10.77.3.0/24\n"
+    "Each network is a bridge in the namespace sf-XXXXXX-net; a process's address ends in its\n"
+    "place in the start order (10.77.N.1 the plant). Everything is removed on stop or a failed\n"
+    "start; namespaces of the same names (a crashed run's) are removed first.";
 
 constexpr const char* kRunDirHelp =
     "Run directory (--run-dir, default $TMPDIR/smartfactory-line-PID):\n"
@@ -58,26 +70,70 @@ double seconds(Clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
+// A process's namespace and interfaces: {"netns": ..., "interfaces": [{network, name, address}]}.
+json host_json(const fy::ProcessHost& host) {
+  json interfaces = json::array();
+  for (const auto& i : host.interfaces) {
+    interfaces.push_back({{"network", fy::to_string(i.network)}, {"name", i.name}, {"address", i.address}});
+  }
+  return {{"netns", host.netns}, {"interfaces", interfaces}};
+}
+
+json networks_json(const fy::HostPlan& hosts) {
+  json networks = json::array();
+  for (const auto& n : hosts.networks) {
+    networks.push_back({{"network", fy::to_string(n.kind)}, {"bridge", n.bridge}, {"subnet", n.cidr()}});
+  }
+  return {{"netns", hosts.line_netns}, {"networks", networks}};
+}
+
 json status_json(const fy::LinePlan& plan, const fy::Supervisor& s, std::string_view event) {
   json list = json::array();
   const auto status = s.status();
   for (std::size_t i = 0; i < status.size(); ++i) {
     const auto& p = status[i];
-    list.push_back({{"name", p.name},
-                    {"role", fy::to_string(plan.processes[i].role)},
-                    {"pid", p.pid},
-                    {"state", fy::to_string(p.state)},
-                    {"restarts", p.restarts},
-                    {"uptime_s", seconds(p.uptime)},
-                    {"opcua", p.opcua},
-                    {"last_exit", p.last_exit},
-                    {"log", p.log.string()}});
+    json entry = {{"name", p.name},
+                  {"role", fy::to_string(plan.processes[i].role)},
+                  {"pid", p.pid},
+                  {"state", fy::to_string(p.state)},
+                  {"restarts", p.restarts},
+                  {"uptime_s", seconds(p.uptime)},
+                  {"opcua", p.opcua},
+                  {"last_exit", p.last_exit},
+                  {"log", p.log.string()}};
+    if (const auto* host = plan.host_of(plan.processes[i])) {
+      entry.update(host_json(*host));
+    }
+    list.push_back(std::move(entry));
   }
-  return {{"event", event},
-          {"line", plan.layout.line},
-          {"run_dir", plan.options.run_dir.string()},
-          {"partition", plan.options.partition},
-          {"processes", list}};
+  json out = {{"event", event},
+              {"line", plan.layout.line},
+              {"run_dir", plan.options.run_dir.string()},
+              {"partition", plan.options.partition},
+              {"processes", list}};
+  if (plan.hosts) {
+    out["hosts"] = networks_json(*plan.hosts);
+  }
+  return out;
+}
+
+// Each process's namespace and interfaces, below the table (the view of the `ready` event).
+void print_hosts(const fy::LinePlan& plan) {
+  const auto& hosts = *plan.hosts;
+  std::cout << fmt::format("networks (bridges in {}):", hosts.line_netns);
+  for (const auto& n : hosts.networks) {
+    std::cout << fmt::format(" {} {}", fy::to_string(n.kind), n.cidr());
+  }
+  std::cout << "\n" << fmt::format("{:<15} {:<28} {}\n", "PROCESS", "NAMESPACE", "INTERFACES");
+  for (const auto& h : hosts.hosts) {
+    std::string interfaces;
+    for (const auto& i : h.interfaces) {
+      interfaces += fmt::format("{}{} {}", interfaces.empty() ? "" : ", ", i.name,
+                                i.address.empty() ? fmt::format("({})", fy::to_string(i.network)) : i.address);
+    }
+    std::cout << fmt::format("{:<15} {:<28} {}\n", h.process, h.netns, interfaces);
+  }
+  std::cout << std::flush;
 }
 
 void print_table(const fy::LinePlan& plan, const fy::Supervisor& s) {
@@ -106,9 +162,26 @@ void print_table(const fy::LinePlan& plan, const fy::Supervisor& s) {
 void print_status(const fy::LinePlan& plan, const fy::Supervisor& s, bool as_json, std::string_view event) {
   if (as_json) {
     std::cout << status_json(plan, s, event).dump() << std::endl;
-  } else {
-    print_table(plan, s);
+    return;
   }
+  print_table(plan, s);
+  if (plan.hosts && event == "ready") {
+    print_hosts(plan);
+  }
+}
+
+// The plan's namespaces made real, reporting what a crashed run left behind.
+Result<std::unique_ptr<fy::HostNetworks>> make_networks(const fy::LinePlan& plan) {
+  std::vector<std::string> removed;
+  auto networks = fy::HostNetworks::create(*plan.hosts, &removed);
+  if (!removed.empty()) {
+    std::cerr << fmt::format("line: removed namespaces an earlier run left: {}\n", fmt::join(removed, " "));
+  }
+  if (networks) {
+    std::cerr << fmt::format("line: {} network namespaces {}-*\n", plan.hosts->namespaces().size(),
+                             plan.hosts->prefix);
+  }
+  return networks;
 }
 
 Result<fy::LinePlan> plan(LineCliOptions& o) {
@@ -134,20 +207,33 @@ Result<fy::LinePlan> plan(LineCliOptions& o) {
 }
 
 int run_line(LineCliOptions& o) {
+  if (o.line.hosts) {
+    if (auto st = fy::hosts_supported(); !st) {
+      std::cerr << "line: " << st.error().message << "\n";
+      return kExitUsage;
+    }
+  }
   auto p = plan(o);
   if (!p) {
     std::cerr << "line: " << p.error().message << "\n";
     return kExitUsage;
   }
-  std::error_code ec;
-  fs::create_directories(p->options.run_dir, ec);
-  if (ec) {
-    std::cerr << "line: run directory " << p->options.run_dir.string() << ": " << ec.message() << "\n";
+  if (auto st = fy::prepare_run_dir(*p); !st) {
+    std::cerr << "line: " << st.error().message << "\n";
     return kExitUsage;
   }
   std::cerr << fmt::format("line: {} processes; run directory {}; DDS partition {}\n", p->processes.size(),
                            p->options.run_dir.string(), p->options.partition);
   install_stop_signals();
+  std::unique_ptr<fy::HostNetworks> networks;  // removed after the supervisor stopped everything
+  if (p->hosts) {
+    auto made = make_networks(*p);
+    if (!made) {
+      std::cerr << "line: " << made.error().message << "\n";
+      return kExitFailure;
+    }
+    networks = std::move(*made);
+  }
   auto& clock = SteadyClock::instance();
   fy::Supervisor supervisor(fy::supervised_processes(*p), fy::line_supervisor_options(*p), clock);
   if (auto st = supervisor.start(stop_requested); !st) {
@@ -197,6 +283,8 @@ void register_line(CLI::App& app, CommandResult& result) {
   cmd->add_option(
       "--historian", o->line.historian,
       "Also run the cloud, configured for the line, into this historian (sqlite:PATH, postgresql://...)");
+  cmd->add_flag("--hosts", o->line.hosts,
+                "Each process in a network namespace of its own, an interface per protocol (root; see above)");
   cmd->add_flag("--json", o->json, "Status as JSON lines on stdout (events ready, status, stopped)");
   cmd->add_option("--status-interval", o->status_interval_s,
                   "Seconds between status views (0 = only when a process changes state)")

@@ -13,6 +13,10 @@ Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerS
                                                                Clock& clock, std::string& security) {
   opcua::server::ServerConfig config;
   config.transport.port = settings.opcua_port;
+  if (!settings.opcua_host.empty()) {  // one interface of several (a host per protocol, paper §VII.A)
+    config.transport.host = settings.opcua_host;
+    config.advertised_host = settings.opcua_host;
+  }
   config.identity.application_name = fmt::format("smartfactory {}", settings.machine);
   auto configured = opcua::server::configure_server_security(settings.opcua_security, false, config);
   if (!configured) {
@@ -37,6 +41,7 @@ Result<std::unique_ptr<ModelServer>> ModelServer::start(const ControllerSettings
     return server.error();
   }
   m->server_ = std::move(*server);
+  m->host_name_ = settings.opcua_host;
   Status imported;
   m->server_->with_address_space([&](opcua::server::AddressSpace& space) {
     auto reports = opcua::server::import_nodeset_files(space, settings.opcua_nodesets);
@@ -61,8 +66,12 @@ ModelServer::~ModelServer() {
   }
 }
 
+std::string settings_endpoint(const std::string& opcua_host, std::uint16_t port) {
+  return fmt::format("opc.tcp://{}:{}", opcua_host.empty() ? "localhost" : opcua_host, port);
+}
+
 std::string ModelServer::endpoint() const {
-  return fmt::format("opc.tcp://{}:{}", "localhost", server_->port());
+  return settings_endpoint(host_name_, server_->port());
 }
 
 Result<std::unique_ptr<HostedController>> HostedController::create(

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "line_rig.hpp"
 #include "sf/factory/line_supervisor.hpp"
 #include "sf/factory/machine_config.hpp"
 #include "sf/factory/order_service.hpp"
@@ -17,47 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kLayout = SF_SOURCE_DIR "/layouts/prototype-line.yaml";
-
-LineOptions options(const fs::path& run_dir) {
-  LineOptions o;
-  o.layout_file = kLayout;
-  o.run_dir = run_dir;
-  o.program = "/bin/sh";  // any program: the plan only names it
-  o.opcua_base_port = 14850;
-  o.modbus_base_port = 15020;
-  o.ecat_base_port = 15980;
-  o.partition = "line-test";
-  return o;
-}
-
-// The endpoints line `smartfactory plant --json` prints, with PLCs from `modbus` up.
-std::string endpoints_line(const line::Layout& layout, int modbus, int ecat) {
-  std::string list;
-  auto add = [&](const std::string& machine, const char* protocol, int port) {
-    list += (list.empty() ? "" : ",") + std::string(R"({"machine":")") + machine + R"(","protocol":")" +
-            protocol + R"(","address":"127.0.0.1:)" + std::to_string(port) + R"("})";
-  };
-  for (const auto& b : layout.belts) {
-    add(b.name, "modbus-tcp", modbus++);
-  }
-  add(layout.uploader.name, "modbus-tcp", modbus++);
-  add(layout.downloader.name, "modbus-tcp", modbus++);
-  for (const auto& r : layout.robots) {
-    r.legacy() ? add(r.name, "modbus-tcp", modbus++) : add(r.name, "ethercat-udp", ecat++);
-  }
-  add("plant", "control", 40000);
-  return R"({"endpoints":[)" + list + "]}";
-}
-
-const LineProcess* find(const LinePlan& plan, std::string_view name) {
-  for (const auto& p : plan.processes) {
-    if (p.name == name) {
-      return &p;
-    }
-  }
-  return nullptr;
-}
+using line_rig::endpoints_line;
+using line_rig::find;
+using line_rig::kLayout;
+using line_rig::options;
 
 TEST(LinePlan, EveryMachineOfTheDefaultLayoutHasItsProcessInStartOrder) {
   testing::TempDir dir;
@@ -242,6 +206,21 @@ TEST(LinePlan, OptionalProcessesAndFreePorts) {
   auto other = plan_line(o);
   ASSERT_TRUE(other);
   EXPECT_NE(other->options.partition, plan->options.partition);
+}
+
+TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
+  testing::TempDir dir;
+  auto o = options(dir.path() / "run");
+  o.historian = "sqlite:" + (dir.path() / "history.db").string();
+  auto plan = plan_line(o);
+  ASSERT_TRUE(plan) << plan.error().describe();
+  ASSERT_NE(find(*plan, "cloud"), nullptr);
+  EXPECT_EQ(plan->options.cloud_config, dir.path() / "run" / "config" / "cloud.yaml");
+  ASSERT_TRUE(prepare_run_dir(*plan));
+  std::ifstream in(plan->options.cloud_config);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, cloud_config_yaml(*plan));
+  EXPECT_NE(text.find(o.historian), std::string::npos) << text;
 }
 
 TEST(LinePlan, BadOptionsAreRefusedBeforeAnythingStarts) {

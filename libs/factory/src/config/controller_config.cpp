@@ -45,8 +45,9 @@ std::string beside(const std::filesystem::path& base, const std::string& file) {
 }
 
 Status parse_opcua(const Node& n, ControllerSettings& s, const std::filesystem::path& base) {
-  SF_TRY(n.only_keys({"port", "modes", "policies", "users", "anonymous", "pki", "nodesets"}));
+  SF_TRY(n.only_keys({"port", "host", "modes", "policies", "users", "anonymous", "pki", "nodesets"}));
   SF_TRY(n.read("port", s.opcua_port));
+  SF_TRY(n.read("host", s.opcua_host));
   auto& sec = s.opcua_security;
   for (auto [key, text] : {std::pair<std::string_view, std::string*>{"modes", &sec.modes},
                            {"policies", &sec.policies},

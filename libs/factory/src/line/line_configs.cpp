@@ -50,21 +50,29 @@ void path_key(YAML::Emitter& y, std::string_view key, const fs::path& path) {
   }
 }
 
-void opcua_and_dds_keys(YAML::Emitter& y, const LinePlan& plan, std::uint16_t port, bool open) {
+void opcua_and_dds_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p, bool open) {
+  const ProcessHost* host = plan.host_of(p);
   y << YAML::Key << "opcua" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "port"
-    << YAML::Value << port;
+    << YAML::Value << p.opcua_port;
+  if (host != nullptr) {  // only on its OPC UA network
+    y << YAML::Key << "host" << YAML::Value << host->address(HostNetworkKind::opcua);
+  }
   if (open) {
-    // Orders from anyone on this host, as configs/order-service.yaml.
+    // Orders from anyone on this host (or its OPC UA network), as configs/order-service.yaml.
     y << YAML::Key << "modes" << YAML::Value << "none";
   }
-  // The line runs on one host (loopback): whoever may use this host is its operator, and may
-  // Clear, Reset and Start a machine after a fault (OPC 30050 §6.7). A deployment across hosts
-  // gives each controller a users file instead (docs/opcua.md, "Security").
+  // The line runs on one host (loopback, or namespaces of its own with --hosts): whoever may use
+  // this host is its operator, and may Clear, Reset and Start a machine after a fault (OPC 30050
+  // §6.7). A deployment across hosts gives each controller a users file instead (docs/opcua.md,
+  // "Security").
   y << YAML::Key << "anonymous" << YAML::Value << "operator";
   y << YAML::EndMap;
+  // With hosts: multicast discovery on its DDS network's interface only (sf::dds::interface_network).
+  const std::string interface =
+      host != nullptr ? host->on(HostNetworkKind::dds)->name : plan.options.interface;
   y << YAML::Key << "dds" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "interface"
-    << YAML::Value << plan.options.interface << YAML::Key << "partition" << YAML::Value
-    << plan.options.partition << YAML::EndMap;
+    << YAML::Value << interface << YAML::Key << "partition" << YAML::Value << plan.options.partition
+    << YAML::EndMap;
 }
 
 // The keys every controller has (controller_config.hpp).
@@ -72,14 +80,32 @@ void common_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p) {
   y << YAML::Key << "machine" << YAML::Value << p.name;
   path_key(y, "layout", plan.options.layout_file);
   y << YAML::Key << "start" << YAML::Value << "execute";
-  opcua_and_dds_keys(y, plan, p.opcua_port, false);
+  opcua_and_dds_keys(y, plan, p, false);
 }
 
 // The order service's keys (order_service.hpp).
 void order_service_keys(YAML::Emitter& y, const LinePlan& plan, const LineProcess& p) {
   path_key(y, "layout", plan.options.layout_file);
   path_key(y, "orders", plan.options.orders_file);
-  opcua_and_dds_keys(y, plan, p.opcua_port, true);
+  opcua_and_dds_keys(y, plan, p, true);
+}
+
+// The smart robot's EtherCAT link: its own interface with hosts (the plant serves the segment on
+// the other end of the cable), else the plant's EtherCAT-in-UDP address.
+Result<std::string> ethercat_link(const LinePlan& plan, const LineProcess& p,
+                                  const std::vector<PlantEndpoint>& endpoints) {
+  const ProcessHost* host = plan.host_of(p);
+  const char* protocol = host != nullptr ? "ethercat-raw" : "ethercat-udp";
+  const PlantEndpoint* e = find_endpoint(endpoints, p.name, protocol);
+  if (e == nullptr) {
+    return make_error(Errc::not_found,
+                      fmt::format("the plant serves no {} segment for {}", protocol, p.name));
+  }
+  if (host != nullptr) {
+    return host->on(HostNetworkKind::ethercat)->name;
+  }
+  SF_TRY(host_port(*e));
+  return "udp:" + e->address;
 }
 
 }  // namespace
@@ -110,15 +136,13 @@ Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProce
   YAML::Emitter y;
   y << YAML::BeginMap;
   if (p.role == LineRole::machine) {
-    const PlantEndpoint* e = find_endpoint(endpoints, p.name, "ethercat-udp");
-    if (e == nullptr) {
-      return make_error(Errc::not_found,
-                        fmt::format("the plant serves no EtherCAT-in-UDP segment for {}", p.name));
+    auto link = ethercat_link(plan, p, endpoints);
+    if (!link) {
+      return link.error();
     }
-    SF_TRY(host_port(*e));
     common_keys(y, plan, p);
     y << YAML::Key << "ethercat" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "link"
-      << YAML::Value << "udp:" + e->address << YAML::EndMap;
+      << YAML::Value << *link << YAML::EndMap;
   } else if (p.role == LineRole::gateway) {
     const PlantEndpoint* e = find_endpoint(endpoints, p.name, "modbus-tcp");
     if (e == nullptr) {
@@ -152,18 +176,23 @@ std::string cloud_config_yaml(const LinePlan& plan) {
   y << YAML::Key << "historian" << YAML::Value << YAML::BeginMap << YAML::Key << "url" << YAML::Value
     << plan.options.historian << YAML::Key << "buffer" << YAML::Value
     << fs::absolute(plan.options.run_dir / "buffer").string() << YAML::EndMap;
+  // With hosts, the aggregating server is for supervisory clients on the OPC UA network.
+  const ProcessHost* cloud = plan.hosts ? plan.hosts->host("cloud") : nullptr;
   y << YAML::Key << "aggregating_server" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "host"
-    << YAML::Value << "127.0.0.1" << YAML::Key << "port" << YAML::Value << 0 << YAML::EndMap;
+    << YAML::Value << (cloud != nullptr ? cloud->address(HostNetworkKind::opcua) : "127.0.0.1") << YAML::Key
+    << "port" << YAML::Value << 0 << YAML::EndMap;
   y << YAML::Key << "servers" << YAML::Value << YAML::BeginSeq;
   for (const auto& p : plan.processes) {
     if (p.opcua_port == 0 || p.role == LineRole::cloud) {
       continue;
     }
     const bool orders = p.role == LineRole::orders;
+    const ProcessHost* host = plan.host_of(p);
     y << YAML::BeginMap << YAML::Key << "name" << YAML::Value << p.name << YAML::Key << "url" << YAML::Value
-      << fmt::format("opc.tcp://127.0.0.1:{}", p.opcua_port);
-    // The order service serves None on loopback (its generated configuration); the controllers
-    // their default, secured endpoints with the installation's PKI.
+      << fmt::format("opc.tcp://{}:{}", host != nullptr ? host->address(HostNetworkKind::opcua) : "127.0.0.1",
+                     p.opcua_port);
+    // The order service serves None on loopback or its OPC UA network (its generated configuration); the
+    // controllers their default, secured endpoints with the installation's PKI.
     y << YAML::Key << "security" << YAML::Value << (orders ? "none" : "auto");
     y << YAML::Key << "subscribe" << YAML::Value << YAML::BeginSeq << YAML::Flow << YAML::BeginMap;
     y << YAML::Key << "browse_path" << YAML::Value
@@ -185,6 +214,16 @@ Status write_cloud_config(const LinePlan& plan) {
     return make_error(Errc::io, fmt::format("cannot write {}", plan.options.cloud_config.string()));
   }
   return {};
+}
+
+Status prepare_run_dir(const LinePlan& plan) {
+  std::error_code ec;
+  fs::create_directories(plan.options.run_dir, ec);
+  if (ec) {
+    return make_error(Errc::io,
+                      fmt::format("run directory {}: {}", plan.options.run_dir.string(), ec.message()));
+  }
+  return plan.options.historian.empty() ? Status{} : write_cloud_config(plan);
 }
 
 Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEndpoint>& endpoints) {

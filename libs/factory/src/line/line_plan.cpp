@@ -117,34 +117,60 @@ Status check_options(const LineOptions& o) {
   return {};
 }
 
-void add_argv(LinePlan& plan) {
+// The plant's faces in the namespaces: Modbus and its control port on its field address, each
+// smart robot's segment on its end of that robot's EtherCAT cable.
+void add_plant_host_argv(const LinePlan& plan, LineProcess& p) {
+  const auto* plant = plan.host_of(p);
+  const auto field = plant->address(HostNetworkKind::field);
+  p.argv.insert(p.argv.end(), {"--modbus-host", field, "--control-host", field});
+  for (const auto& robot : plan.processes) {
+    const auto* host = plan.host_of(robot);
+    if (robot.role == LineRole::machine && host->on(HostNetworkKind::ethercat) != nullptr) {
+      p.argv.insert(p.argv.end(),
+                    {"--ecat-iface", robot.name + "=" + host->on(HostNetworkKind::ethercat)->peer});
+    }
+  }
+}
+
+std::vector<std::string> own_argv(const LinePlan& plan, const LineProcess& p) {
   const auto& o = plan.options;
   const std::string program = o.program.string();
+  switch (p.role) {
+    case LineRole::plant:
+      return {program,
+              "plant",
+              "--json",
+              "--status-interval",
+              "0",
+              "--modbus-port",
+              std::to_string(o.modbus_base_port),
+              "--ecat-port",
+              std::to_string(o.ecat_base_port)};
+    case LineRole::machine:
+    case LineRole::gateway:
+    case LineRole::orders:
+      return {program, std::string(to_string(p.role)), "--config", p.config.string(), "--json"};
+    case LineRole::cloud:
+      return {program, "cloud", "--config", fs::absolute(o.cloud_config).string()};
+  }
+  return {};
+}
+
+void add_argv(LinePlan& plan) {
+  const auto& o = plan.options;
   const std::string layout = o.layout_file.empty() ? std::string() : fs::absolute(o.layout_file).string();
   for (auto& p : plan.processes) {
-    switch (p.role) {
-      case LineRole::plant:
-        p.argv = {program,
-                  "plant",
-                  "--json",
-                  "--status-interval",
-                  "0",
-                  "--modbus-port",
-                  std::to_string(o.modbus_base_port),
-                  "--ecat-port",
-                  std::to_string(o.ecat_base_port)};
-        break;
-      case LineRole::machine:
-      case LineRole::gateway:
-      case LineRole::orders:
-        p.argv = {program, std::string(to_string(p.role)), "--config", p.config.string(), "--json"};
-        continue;
-      case LineRole::cloud:
-        p.argv = {program, "cloud", "--config", fs::absolute(o.cloud_config).string()};
-        continue;
+    p.argv = own_argv(plan, p);
+    if (p.role == LineRole::plant) {
+      if (!layout.empty()) {
+        p.argv.insert(p.argv.end(), {"--layout", layout});
+      }
+      if (plan.hosts) {
+        add_plant_host_argv(plan, p);
+      }
     }
-    if (!layout.empty()) {
-      p.argv.insert(p.argv.end(), {"--layout", layout});
+    if (const auto* host = plan.host_of(p)) {
+      p.argv = in_namespace(*host, p.argv);
     }
   }
 }
@@ -199,7 +225,7 @@ Result<LinePlan> plan_line(LineOptions options) {
   if (!layout) {
     return layout.error();
   }
-  LinePlan plan{std::move(options), std::move(*layout), {}};
+  LinePlan plan{std::move(options), std::move(*layout), {}, std::nullopt};
   auto& o = plan.options;
   if (o.partition.empty()) {
     o.partition = own_partition();
@@ -232,8 +258,19 @@ Result<LinePlan> plan_line(LineOptions options) {
     plan.processes.push_back(
         {"orders", LineRole::orders, GatewayKind::conveyor, o.run_dir / "config" / "orders.yaml", port, {}});
   }
+  if (o.hosts) {
+    auto hosts = plan_hosts(hosts_prefix(o.run_dir), plan.processes);
+    if (!hosts) {
+      return hosts.error();
+    }
+    plan.hosts = std::move(*hosts);
+  }
   add_argv(plan);
   return plan;
+}
+
+const ProcessHost* LinePlan::host_of(const LineProcess& process) const {
+  return hosts ? hosts->host(process.name) : nullptr;
 }
 
 std::optional<ReadyInfo> controller_ready(std::string_view line) {

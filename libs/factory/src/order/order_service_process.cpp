@@ -102,7 +102,7 @@ OrderServiceProcess::~OrderServiceProcess() {
 }
 
 std::string OrderServiceProcess::opcua_endpoint() const {
-  return fmt::format("opc.tcp://localhost:{}", server_->port());
+  return settings_endpoint(setup_.config.service.opcua_host, server_->port());
 }
 
 void OrderServiceProcess::run(const std::function<bool()>& stop,

@@ -10,6 +10,7 @@
 //   job_timeout_s: 10                 # a job running this much longer than estimated fails
 //   opcua:                            # the controller's own OPC UA server (its machine model)
 //     port: 4841
+//     host: 10.77.3.2                 # the address it listens on (default: every address)
 //     modes: sign,encrypt             # none, sign, encrypt (comma list)
 //     policies: Basic256Sha256        # comma list (default: the three the server offers)
 //     users: users.yaml               # `opcua users` file; operators may call the PackML methods
@@ -54,6 +55,7 @@ struct ControllerSettings {
   bool auto_start = false;  // start: execute
   std::chrono::milliseconds job_timeout{10000};
   std::uint16_t opcua_port = 4840;
+  std::string opcua_host;  // the address the server listens on and names in its URL; empty: all
   opcua::server::ServerSecuritySettings opcua_security;
   std::vector<std::string> opcua_nodesets;
   DdsOptions dds;

@@ -29,6 +29,8 @@ inline constexpr std::size_t kHistoryDepth = 10'000;
 // from here.
 Result<std::unique_ptr<opcua::server::Server>> settings_server(const ControllerSettings& settings,
                                                                Clock& clock, std::string& security);
+// The URL of a server from settings_server: opc.tcp://<opcua host, or localhost>:<port>.
+std::string settings_endpoint(const std::string& opcua_host, std::uint16_t port);
 
 // A controller's OPC UA server from its `opcua:` settings (port, security, users, the
 // ontology's NodeSet2 files, imported first so the machine object is its individual), with
@@ -46,7 +48,7 @@ class ModelServer {
   [[nodiscard]] opcua::server::Server& server() { return *server_; }
   [[nodiscard]] const opcua::server::Server& server() const { return *server_; }
   [[nodiscard]] const MachineHost& host() const { return *host_; }
-  // opc.tcp://localhost:<port>
+  // opc.tcp://<its opcua host, or localhost>:<port>
   [[nodiscard]] std::string endpoint() const;
   // What the server's security came to (policies, modes, users).
   [[nodiscard]] const std::string& security() const { return security_; }
@@ -56,6 +58,7 @@ class ModelServer {
 
   std::unique_ptr<opcua::server::Server> server_;
   std::unique_ptr<MachineHost> host_;
+  std::string host_name_;  // the opcua host of its settings
   std::string security_;
 };
 

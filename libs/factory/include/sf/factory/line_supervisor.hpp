@@ -9,6 +9,8 @@
 // The controllers' configurations point at the plant's actual addresses, so they are written
 // when the plant prints its endpoints line. Everything is on loopback; OPC UA ports count up from
 // a base port; every process of a run shares one DDS partition, so parallel runs do not meet.
+// With `hosts`, every process runs in a network namespace of its own with an interface per
+// protocol (line_hosts.hpp), and the configurations name those interfaces and addresses.
 //
 // Run directory: config/<name>.yaml (the controllers' and the order service's configurations),
 // log/<name>.log (each process's stdout and stderr, appended across restarts).
@@ -16,12 +18,14 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "sf/core/result.hpp"
 #include "sf/factory/gateway_config.hpp"
+#include "sf/factory/line_hosts.hpp"
 #include "sf/factory/supervisor.hpp"
 #include "sf/line/layout.hpp"
 
@@ -46,6 +50,8 @@ struct LineOptions {
   // A historian URL (sqlite:PATH, postgresql://...): the cloud runs with a configuration written
   // for the line (write_cloud_config: every controller's and the order service's OPC UA server).
   std::string historian;
+  // Each process in a network namespace of its own (line_hosts.hpp), named from the run directory.
+  bool hosts = false;
 };
 
 enum class LineRole : std::uint8_t { plant, machine, gateway, cloud, orders };
@@ -64,7 +70,10 @@ struct LineProcess {
 struct LinePlan {
   LineOptions options;  // with ports and partition resolved
   line::Layout layout;
-  std::vector<LineProcess> processes;  // in start order
+  std::vector<LineProcess> processes;  // in start order, argv in their namespaces with `hosts`
+  std::optional<HostPlan> hosts;       // with options.hosts
+  // The process's place in the host plan; nullptr without one.
+  [[nodiscard]] const ProcessHost* host_of(const LineProcess& process) const;
 };
 
 // One of the plant's faces, from its `--json` endpoints line.
@@ -94,6 +103,8 @@ Status write_controller_configs(const LinePlan& plan, const std::vector<PlantEnd
 std::string cloud_config_yaml(const LinePlan& plan);
 // Writes it to plan.options.cloud_config.
 Status write_cloud_config(const LinePlan& plan);
+// Creates the run directory and, for a plan with `historian` set, writes the cloud's configuration.
+Status prepare_run_dir(const LinePlan& plan);
 
 // The processes for a Supervisor: argv, ready lines, and the plant's ready line writing the
 // controllers' configurations.

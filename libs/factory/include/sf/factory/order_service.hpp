@@ -152,7 +152,7 @@ class OrderServiceProcess {
 
   [[nodiscard]] OrderServiceAgent& agent() { return *agent_; }
   [[nodiscard]] const OrderServiceSetup& setup() const { return setup_; }
-  // opc.tcp://localhost:<port>
+  // opc.tcp://<its opcua host, or localhost>:<port>
   [[nodiscard]] std::string opcua_endpoint() const;
   [[nodiscard]] const std::string& opcua_security() const { return security_; }
 

@@ -92,14 +92,10 @@ json status_json(const fy::LinePlan& plan, const fy::Supervisor& s, std::string_
   const auto status = s.status();
   for (std::size_t i = 0; i < status.size(); ++i) {
     const auto& p = status[i];
-    json entry = {{"name", p.name},
-                  {"role", fy::to_string(plan.processes[i].role)},
-                  {"pid", p.pid},
-                  {"state", fy::to_string(p.state)},
-                  {"restarts", p.restarts},
-                  {"uptime_s", seconds(p.uptime)},
-                  {"opcua", p.opcua},
-                  {"last_exit", p.last_exit},
+    json entry = {{"name", p.name},         {"role", fy::to_string(plan.processes[i].role)},
+                  {"pid", p.pid},           {"state", fy::to_string(p.state)},
+                  {"restarts", p.restarts}, {"uptime_s", seconds(p.uptime)},
+                  {"opcua", p.opcua},       {"last_exit", p.last_exit},
                   {"log", p.log.string()}};
     if (const auto* host = plan.host_of(plan.processes[i])) {
       entry.update(host_json(*host));
@@ -128,8 +124,9 @@ void print_hosts(const fy::LinePlan& plan) {
   for (const auto& h : hosts.hosts) {
     std::string interfaces;
     for (const auto& i : h.interfaces) {
-      interfaces += fmt::format("{}{} {}", interfaces.empty() ? "" : ", ", i.name,
-                                i.address.empty() ? fmt::format("({})", fy::to_string(i.network)) : i.address);
+      interfaces +=
+          fmt::format("{}{} {}", interfaces.empty() ? "" : ", ", i.name,
+                      i.address.empty() ? fmt::format("({})", fy::to_string(i.network)) : i.address);
     }
     std::cout << fmt::format("{:<15} {:<28} {}\n", h.process, h.netns, interfaces);
   }
@@ -283,8 +280,9 @@ void register_line(CLI::App& app, CommandResult& result) {
   cmd->add_option(
       "--historian", o->line.historian,
       "Also run the cloud, configured for the line, into this historian (sqlite:PATH, postgresql://...)");
-  cmd->add_flag("--hosts", o->line.hosts,
-                "Each process in a network namespace of its own, an interface per protocol (root; see above)");
+  cmd->add_flag(
+      "--hosts", o->line.hosts,
+      "Each process in a network namespace of its own, an interface per protocol (root; see above)");
   cmd->add_flag("--json", o->json, "Status as JSON lines on stdout (events ready, status, stopped)");
   cmd->add_option("--status-interval", o->status_interval_s,
                   "Seconds between status views (0 = only when a process changes state)")

@@ -12,11 +12,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include "line_rig.hpp"
+#include "sf/core/process.hpp"
 #include "sf/factory/line_hosts.hpp"
 #include "sf/factory/line_supervisor.hpp"
 #include "sf/factory/machine_config.hpp"
 #include "sf/factory/order_service.hpp"
-#include "sf/core/process.hpp"
 #include "sf/testing/temp_dir.hpp"
 
 namespace sf::factory {
@@ -347,7 +347,8 @@ TEST_F(HostNetworksTest, AFailedSetupRemovesWhatItMade) {
   plan_.hosts[1].interfaces.back().peer = "a-name-longer-than-ifnamsiz";
   auto made = HostNetworks::create(plan_);
   ASSERT_FALSE(made);
-  EXPECT_NE(made.error().message.find("a-name-longer-than-ifnamsiz"), std::string::npos) << made.error().message;
+  EXPECT_NE(made.error().message.find("a-name-longer-than-ifnamsiz"), std::string::npos)
+      << made.error().message;
   EXPECT_TRUE(existing_namespaces(plan_.namespaces()).empty());
 }
 
@@ -366,7 +367,8 @@ TEST_F(HostNetworksTest, CodeRunsInANamespaceAndTheThreadComesBack) {
   ASSERT_TRUE(made) << made.error().describe();
   const auto own = fs::read_symlink("/proc/thread-self/ns/net");
   fs::path inside;
-  ASSERT_TRUE(with_netns(plan_.hosts[0].netns, [&] { inside = fs::read_symlink("/proc/thread-self/ns/net"); }));
+  ASSERT_TRUE(
+      with_netns(plan_.hosts[0].netns, [&] { inside = fs::read_symlink("/proc/thread-self/ns/net"); }));
   EXPECT_NE(inside, own);
   EXPECT_EQ(fs::read_symlink("/proc/thread-self/ns/net"), own);
   EXPECT_FALSE(with_netns("sf-no-such-namespace", [] {}));

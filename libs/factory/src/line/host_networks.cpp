@@ -91,11 +91,13 @@ Status with_netns(const std::string& netns, const std::function<void()>& fn) {
   const int own = ::open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
   Status st;
   if (own < 0 || ::setns(target, CLONE_NEWNET) != 0) {
-    st = make_error(Errc::io, fmt::format("entering the network namespace {}: {}", netns, std::strerror(errno)));
+    st = make_error(Errc::io,
+                    fmt::format("entering the network namespace {}: {}", netns, std::strerror(errno)));
   } else {
     fn();
     if (::setns(own, CLONE_NEWNET) != 0) {
-      st = make_error(Errc::io, fmt::format("leaving the network namespace {}: {}", netns, std::strerror(errno)));
+      st = make_error(Errc::io,
+                      fmt::format("leaving the network namespace {}: {}", netns, std::strerror(errno)));
     }
   }
   ::close(target);

@@ -7,6 +7,8 @@
 #include <csignal>
 #include <cstring>
 #include <sstream>
+#include <string_view>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -23,7 +25,7 @@ using namespace std::chrono_literals;
 namespace {
 
 // Where `ip netns add` keeps the names (iproute2's NETNS_RUN_DIR).
-const fs::path kNetnsDir = "/run/netns";
+constexpr std::string_view kNetnsDir = "/run/netns";
 
 std::string trimmed(std::string text) {
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) {
@@ -83,21 +85,22 @@ Status hosts_supported() {
 }
 
 Status with_netns(const std::string& netns, const std::function<void()>& fn) {
-  const std::string target_path = (kNetnsDir / netns).string();
+  const std::string target_path = (fs::path(kNetnsDir) / netns).string();
   const int target = ::open(target_path.c_str(), O_RDONLY | O_CLOEXEC);
   if (target < 0) {
-    return make_error(Errc::not_found, fmt::format("network namespace {}: {}", netns, std::strerror(errno)));
+    return make_error(Errc::not_found,
+                      fmt::format("network namespace {}: {}", netns, std::generic_category().message(errno)));
   }
   const int own = ::open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
   Status st;
   if (own < 0 || ::setns(target, CLONE_NEWNET) != 0) {
-    st = make_error(Errc::io,
-                    fmt::format("entering the network namespace {}: {}", netns, std::strerror(errno)));
+    st = make_error(Errc::io, fmt::format("entering the network namespace {}: {}", netns,
+                                          std::generic_category().message(errno)));
   } else {
     fn();
     if (::setns(own, CLONE_NEWNET) != 0) {
-      st = make_error(Errc::io,
-                      fmt::format("leaving the network namespace {}: {}", netns, std::strerror(errno)));
+      st = make_error(Errc::io, fmt::format("leaving the network namespace {}: {}", netns,
+                                            std::generic_category().message(errno)));
     }
   }
   ::close(target);
@@ -111,7 +114,7 @@ std::vector<std::string> existing_namespaces(const std::vector<std::string>& nam
   std::vector<std::string> out;
   for (const auto& n : names) {
     std::error_code ec;
-    if (fs::exists(kNetnsDir / n, ec)) {
+    if (fs::exists(fs::path(kNetnsDir) / n, ec)) {
       out.push_back(n);
     }
   }

@@ -22,5 +22,15 @@ function(sf_unit_test name)
   target_link_libraries(${name} PRIVATE ${T_DEPS} sf::core_testing GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
   # SF_SOURCE_DIR: tests that start peers from the repository (node-opcua, Jena) find it there.
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
-                       PROPERTIES LABELS "unit;${T_LABELS}" ENVIRONMENT "SF_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+                       PROPERTIES LABELS unit ENVIRONMENT "SF_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  # Extra labels are set by a script ctest reads after the discovered tests: a list in
+  # PROPERTIES reaches set_tests_properties split, its second label taken for a property.
+  if(T_LABELS)
+    set(script "${CMAKE_CURRENT_BINARY_DIR}/${name}_labels.cmake")
+    file(WRITE "${script}"
+         "foreach(t IN LISTS ${name}_TESTS)\n"
+         "  set_tests_properties(\"\${t}\" PROPERTIES LABELS \"unit;${T_LABELS}\")\n"
+         "endforeach()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${script}")
+  endif()
 endfunction()

@@ -194,7 +194,7 @@ def main():
             wait_for(lambda: len({str(v).split()[0] for v in history_values(
                 tmp, "orders", "/Objects/OrderService/LastInspection") if v}) >= len(ORDERS), 60,
                 "the restarted cloud's historian to catch up", interval=2)
-            check_inspections(tmp, [o for o, _ in ORDERS])
+            check_inspections(tmp, [o for o, _ in ORDERS], remade={e["order"] for e in line.events("remade")})
             # The restarted IPC's states, read back from its server's history although the cloud
             # was not subscribed yet: Stopped, then up to Execute (auto start).
             states = history_values(tmp, "scara-robot-1", "/Objects/Machines/ScaraRobot1/PackML/Status/StateCurrent")

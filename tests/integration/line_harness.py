@@ -213,12 +213,33 @@ def history_values(tmp, server, path):
     return [s["value"] for s in samples["samples"]]
 
 
-def check_inspections(tmp, order_ids):
-    """The historian holds every box's inspection (the order service's LastInspection series)."""
-    inspected = {str(v).split()[0] for v in history_values(tmp, "orders", "/Objects/OrderService/LastInspection") if v}
-    missing = sorted(set(order_ids) - inspected)
+def inspection(text):
+    """An OrderService.LastInspection value (sf/line/inspection.hpp) as a dict: order, box, type,
+    ordered and counted ({candy: n}), weight_g, lead_s."""
+    tokens = str(text).split()
+    record = {"order": tokens[0], "ordered": {}, "counted": {}}
+    for token in tokens[1:]:
+        key, value = token.split("=", 1)
+        if key in ("ordered", "counted"):
+            record[key] = {c.split(":")[0]: int(c.split(":")[1]) for c in value.split(",") if c}
+        else:
+            record[key] = value
+    return record
+
+
+def check_inspections(tmp, order_ids, remade=()):
+    """The historian holds every box's inspection (the order service's LastInspection series), and
+    the last box of each order (`remade`: orders whose earlier box was rejected) holds what the
+    order asks for."""
+    records = [inspection(v) for v in history_values(tmp, "orders", "/Objects/OrderService/LastInspection") if v]
+    last = {r["order"]: r for r in records}
+    missing = sorted(set(order_ids) - set(last))
     check(not missing, f"the historian holds every box's inspection ({len(order_ids) - len(missing)} of "
           f"{len(order_ids)}; missing {missing})")
+    wrong = [r for r in last.values() if r["order"] in order_ids and r["ordered"] != r["counted"]]
+    check(not wrong, f"every order's last box holds what the order asks for, by the historian: {wrong}")
+    twice = sorted(o for o in order_ids if sum(r["order"] == o for r in records) > 1 and o not in remade)
+    check(not twice, f"no order's box was inspected twice unless it was remade: {twice}")
 
 
 def check_history(tmp, order_ids, states=None):

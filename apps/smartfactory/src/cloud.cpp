@@ -130,8 +130,13 @@ int run_cloud(const CloudOptions& o) {
     if (o.status_interval_s > 0 && now - last >= std::chrono::duration<double>(o.status_interval_s)) {
       const auto s = (*gateway)->status();
       const double seconds = std::chrono::duration<double>(now - last).count();
-      std::fprintf(stderr, "%s\n",
-                   status_line(s, static_cast<double>(s.samples_received - last_received) / seconds).c_str());
+      std::string line = status_line(s, static_cast<double>(s.samples_received - last_received) / seconds);
+      if (const auto* knowledge = (*gateway)->knowledge(); knowledge != nullptr) {
+        const auto k = knowledge->status();
+        line += fmt::format(", knowledge: {} alarms, {} boxes, {} triples", k.active_alarms, k.inspections,
+                            k.triples);
+      }
+      std::fprintf(stderr, "%s\n", line.c_str());
       print_problems(s);
       last_received = s.samples_received;
       last = now;
@@ -176,6 +181,7 @@ void register_cloud(CLI::App& app, CommandResult& result) {
       "  discovery: {url: 'opc.tcp://lds:4840', subscribe: [{browse_path: /Objects}]}\n"
       "  aggregating_server: {port: 4850, security: 'sign,encrypt'}\n"
       "  pki: DIR                         # default: the one `opcua pki` uses\n"
+      "  knowledge: {due_after_s: 900}    # alarms from the rules (built-in ontology, rules, layout)\n"
       "See docs/cloud.md for every setting.");
   cmd->callback([o, &result] { result.exit_code = run_cloud(*o); });
 }

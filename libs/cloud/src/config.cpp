@@ -172,10 +172,38 @@ Result<DiscoveryConfig> parse_discovery(const Node& node) {
   return discovery;
 }
 
+Result<KnowledgeConfig> parse_knowledge(const Node& node) {
+  SF_TRY(node.only_keys({"layout", "ontology", "rules", "due_after_s"}));
+  KnowledgeConfig k;
+  std::string layout;
+  std::string ontology;
+  std::string rules;
+  SF_TRY(node.read("layout", layout));
+  SF_TRY(node.read("ontology", ontology));
+  SF_TRY(node.read("rules", rules));
+  k.layout = layout;
+  k.ontology = ontology;
+  k.rules = rules;
+  auto due = k.due_after.count();
+  SF_TRY(node.read("due_after_s", due));
+  if (due < 0) {
+    return node.error("due_after_s must be 0 (no due times) or more");
+  }
+  k.due_after = std::chrono::seconds(due);
+  return k;
+}
+
 Result<GatewayConfig> parse_root(const Node& root) {
-  SF_TRY(root.only_keys({"historian", "servers", "discovery", "aggregating_server", "pki"}));
+  SF_TRY(root.only_keys({"historian", "servers", "discovery", "aggregating_server", "pki", "knowledge"}));
   GatewayConfig config;
   SF_TRY(root.read("pki", config.pki));
+  if (root.has("knowledge")) {
+    auto knowledge = parse_knowledge(*root.child("knowledge"));
+    if (!knowledge) {
+      return knowledge.error();
+    }
+    config.knowledge = std::move(*knowledge);
+  }
   if (root.has("historian")) {
     SF_TRY(parse_historian(*root.child("historian"), config.historian));
   }

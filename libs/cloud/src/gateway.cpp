@@ -5,10 +5,13 @@
 #include <mutex>
 
 #include "aggregating_server.hpp"
+#include "knowledge_defaults.hpp"
 #include "sample_writer.hpp"
 #include "server_discovery.hpp"
 #include "server_link.hpp"
+#include "sf/core/config.hpp"
 #include "sf/core/log.hpp"
+#include "sf/line/layout.hpp"
 
 namespace sf::cloud {
 
@@ -19,6 +22,8 @@ struct Gateway::Impl {
   std::unique_ptr<historian::BufferedStore> store;
   std::unique_ptr<detail::SampleWriter> writer;
   std::unique_ptr<detail::AggregatingServer> aggregating;
+  std::unique_ptr<KnowledgeLoop> knowledge;
+  LiveBus::Subscription to_knowledge;
   LiveBus::Subscription to_aggregating;
   std::function<void(const historian::Series&)> on_series;
   std::unique_ptr<detail::ServerDiscovery> discovery;
@@ -30,7 +35,54 @@ struct Gateway::Impl {
   // A link for `server` with the client settings the hook made; not started.
   Result<std::unique_ptr<detail::ServerLink>> make_link(const ServerConfig& server);
   void add_discovered(const ServerConfig& server);
+  Status start_knowledge(const KnowledgeConfig& k);
 };
+
+namespace {
+
+Result<std::string> file_or(const std::filesystem::path& file, std::string_view built_in,
+                            std::string_view what) {
+  if (file.empty()) {
+    return std::string(built_in);
+  }
+  auto text = config::read_text(file);
+  if (!text) {
+    return text.error().with_context(fmt::format("knowledge {}", what));
+  }
+  return std::move(*text);
+}
+
+}  // namespace
+
+// Alarms go to the historian as events of the server "knowledge" (through the writer, as the
+// servers' events do) and to the log.
+Status Gateway::Impl::start_knowledge(const KnowledgeConfig& k) {
+  auto layout = k.layout.empty() ? line::default_layout() : line::load_layout(k.layout);
+  if (!layout) {
+    return layout.error().with_context("knowledge layout");
+  }
+  KnowledgeLoopOptions o;
+  auto ontology = file_or(k.ontology, detail::default_ontology(), "ontology");
+  auto rules = file_or(k.rules, detail::default_rules(), "rules");
+  if (!ontology || !rules) {
+    return !ontology ? ontology.error() : rules.error();
+  }
+  o.ontology = std::move(*ontology);
+  o.rules = std::move(*rules);
+  o.rules_name = k.rules.empty() ? "rules/candy-factory.rules" : k.rules.string();
+  o.due_after = k.due_after;
+  auto loop = KnowledgeLoop::create(*layout, o, [w = writer.get()](const Alarm& a) {
+    log::get("knowledge")
+        ->warn("{} {}: {} (rule {})", a.active ? "alarm" : "cleared", a.entity, a.message, a.rule);
+    w->push(alarm_event(a, kKnowledgeServer));
+  });
+  if (!loop) {
+    return loop.error().with_context("knowledge");
+  }
+  knowledge = std::move(*loop);
+  to_knowledge = bus.subscribe([k = knowledge.get()](const LiveUpdate& u) { k->on_value(u); });
+  return {};
+}
 
 Result<std::unique_ptr<Gateway>> Gateway::create(GatewayConfig config, GatewayOptions options) {
   auto impl = std::make_unique<Impl>();
@@ -45,6 +97,9 @@ Result<std::unique_ptr<Gateway>> Gateway::create(GatewayConfig config, GatewayOp
                                                         config.historian.flush_interval, options.on_commit);
   impl->config = std::move(config);
   impl->options = std::move(options);
+  if (impl->config.knowledge) {
+    SF_TRY(impl->start_knowledge(*impl->config.knowledge));
+  }
   return std::unique_ptr<Gateway>(new Gateway(std::move(impl)));
 }
 
@@ -191,6 +246,10 @@ GatewayStatus Gateway::status() const {
   s.buffer = g.store->stats();
   s.aggregating_port = g.aggregating ? g.aggregating->port() : 0;
   return s;
+}
+
+const KnowledgeLoop* Gateway::knowledge() const {
+  return impl_->knowledge.get();
 }
 
 LiveBus& Gateway::live() {

@@ -41,6 +41,10 @@ aggregating_server:
   users: /etc/sf/users.yaml
   anonymous: "off"
 pki: /var/lib/sf/pki
+knowledge:
+  layout: /etc/sf/line.yaml
+  rules: /etc/sf/line.rules
+  due_after_s: 900
 )";
 
 TEST(GatewayConfig, ReadsEverySetting) {
@@ -78,6 +82,22 @@ TEST(GatewayConfig, ReadsEverySetting) {
   EXPECT_EQ(config->aggregating_server.users, "/etc/sf/users.yaml");
   EXPECT_EQ(config->aggregating_server.anonymous, "off");
   EXPECT_EQ(config->pki, "/var/lib/sf/pki");
+  ASSERT_TRUE(config->knowledge.has_value());
+  EXPECT_EQ(config->knowledge->layout, "/etc/sf/line.yaml");
+  EXPECT_EQ(config->knowledge->rules, "/etc/sf/line.rules");
+  EXPECT_TRUE(config->knowledge->ontology.empty());  // the built-in one
+  EXPECT_EQ(config->knowledge->due_after.count(), 900);
+}
+
+TEST(GatewayConfig, KnowledgeIsOnWhenItsSectionIsThere) {
+  const std::string servers = "servers: [{name: a, url: 'opc.tcp://x:1', subscribe: [{node: i=85}]}]\n";
+  auto off = parse_gateway_config(servers);
+  ASSERT_TRUE(off) << off.error().message;
+  EXPECT_FALSE(off->knowledge.has_value());
+  auto on = parse_gateway_config(servers + "knowledge: {}\n");
+  ASSERT_TRUE(on) << on.error().message;
+  ASSERT_TRUE(on->knowledge.has_value());
+  EXPECT_EQ(on->knowledge->due_after.count(), 0);
 }
 
 struct Bad {
@@ -109,6 +129,11 @@ TEST(GatewayConfig, MistakesNameTheirPlace) {
        "c.yaml:4:17"},
       {"historian: {url: 'sqlite:x.db'}\n", "no servers"},
       {"servers: [\n", "c.yaml:"},
+      {"servers: [{name: a, url: 'opc.tcp://x:1', subscribe: [{node: i=85}]}]\nknowledge: {due_after_s: "
+       "-1}\n",
+       "due_after_s"},
+      {"servers: [{name: a, url: 'opc.tcp://x:1', subscribe: [{node: i=85}]}]\nknowledge: {rule: x}\n",
+       "unknown setting 'rule'"},
   };
   for (const Bad& bad : cases) {
     auto config = parse_gateway_config(bad.yaml, "c.yaml");

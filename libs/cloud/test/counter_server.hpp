@@ -66,6 +66,16 @@ inline ServerConfig server_config(std::string name, std::string url, std::vector
 
 using TempDir = sf::testing::TempDir;
 
+// A gateway of one server writing to SQLite in `dir`, with a short flush for quick tests.
+inline GatewayConfig sqlite_gateway(const TempDir& dir, ServerConfig server) {
+  GatewayConfig config;
+  config.historian.url = "sqlite:" + (dir.path() / "history.db").string();
+  config.historian.buffer = dir.path() / "buffer";
+  config.historian.flush_interval = std::chrono::milliseconds(20);
+  config.servers.push_back(std::move(server));
+  return config;
+}
+
 // Objects/Line in a namespace of its own (`uri`), where the test servers put their variables.
 inline opcua::server::ObjectSpec add_line_object(opcua::server::AddressSpace& space, std::string_view uri) {
   const std::uint16_t ns = space.add_namespace(std::string(uri));

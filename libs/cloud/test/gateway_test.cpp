@@ -220,12 +220,9 @@ TEST(GatewayCatchUp, WhatTheServerKeptWhileTheGatewayWasAwayIsReadBackOnceInOrde
   HistoryServer server;
   ASSERT_TRUE(server.ok());
   TempDir dir;
-  GatewayConfig config;
-  config.historian.url = "sqlite:" + (dir.path() / "history.db").string();
-  config.historian.buffer = dir.path() / "buffer";
-  config.historian.flush_interval = std::chrono::milliseconds(20);
-  config.servers.push_back(server_config("line", "opc.tcp://127.0.0.1:" + std::to_string(server.port()),
-                                         {path_rule("/Objects/Line", 1)}));
+  GatewayConfig config =
+      test::sqlite_gateway(dir, server_config("line", "opc.tcp://127.0.0.1:" + std::to_string(server.port()),
+                                              {path_rule("/Objects/Line", 1)}));
   const auto expect_values_up_to = [&](std::int64_t last) {
     std::vector<std::int64_t> expected(static_cast<std::size_t>(last + 1));
     std::iota(expected.begin(), expected.end(), 0);

@@ -204,14 +204,22 @@ Result<Node> load_string(std::string_view text, std::string name) {
   }
 }
 
-Result<Node> load_file(const std::filesystem::path& path) {
+Result<std::string> read_text(const std::filesystem::path& path) {
   std::ifstream in{path, std::ios::binary};
   if (!in) {
     return Error{Errc::not_found, fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return load_string(text.str(), path.string());
+  return text.str();
+}
+
+Result<Node> load_file(const std::filesystem::path& path) {
+  auto text = read_text(path);
+  if (!text) {
+    return text.error();
+  }
+  return load_string(*text, path.string());
 }
 
 }  // namespace sf::config

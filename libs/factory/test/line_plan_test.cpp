@@ -221,6 +221,15 @@ TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, cloud_config_yaml(*plan));
   EXPECT_NE(text.find(o.historian), std::string::npos) << text;
+  // The cloud reasons over the line's own layout; orders are promised within 15 minutes.
+  EXPECT_NE(text.find("knowledge:"), std::string::npos) << text;
+  EXPECT_NE(text.find("due_after_s: 900"), std::string::npos) << text;
+  o.layout_file = dir.path() / "line.yaml";
+  std::ofstream(o.layout_file) << line::default_layout_yaml();
+  auto own = plan_line(o);
+  ASSERT_TRUE(own) << own.error().describe();
+  EXPECT_NE(cloud_config_yaml(*own).find("layout: " + o.layout_file.string()), std::string::npos)
+      << cloud_config_yaml(*own);
 }
 
 TEST(LinePlan, BadOptionsAreRefusedBeforeAnythingStarts) {

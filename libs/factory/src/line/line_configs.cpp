@@ -170,6 +170,8 @@ Result<std::string> controller_config_yaml(const LinePlan& plan, const LineProce
                      y.c_str());
 }
 
+constexpr std::chrono::seconds kDueAfter{900};
+
 std::string cloud_config_yaml(const LinePlan& plan) {
   YAML::Emitter y;
   y << YAML::BeginMap;
@@ -200,7 +202,15 @@ std::string cloud_config_yaml(const LinePlan& plan) {
     y << YAML::Key << "depth" << YAML::Value << (orders ? 1 : 3) << YAML::EndMap << YAML::EndSeq
       << YAML::EndMap;
   }
-  y << YAML::EndSeq << YAML::EndMap;
+  y << YAML::EndSeq;
+  // The knowledge loop over the line's own layout (its individuals); an order is promised within
+  // kDueAfter of its acceptance (the rule `late`).
+  y << YAML::Key << "knowledge" << YAML::Value << YAML::BeginMap;
+  if (!plan.options.layout_file.empty()) {
+    y << YAML::Key << "layout" << YAML::Value << fs::absolute(plan.options.layout_file).string();
+  }
+  y << YAML::Key << "due_after_s" << YAML::Value << kDueAfter.count() << YAML::EndMap;
+  y << YAML::EndMap;
   return fmt::format("# the cloud of the line {}, written by `smartfactory line`\n{}\n", plan.layout.line,
                      y.c_str());
 }

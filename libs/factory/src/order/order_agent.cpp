@@ -158,7 +158,7 @@ void OrderAgent::on_work_done(const cnp::Conversation& c) {
       }
     }
     inspection_ = in;
-    emit("inspected", c.contractor, c.result);
+    emit("inspected", c.contractor, c.result, in);
     return finish(rejected_.empty() ? verify(in) : rejected_);
   }
   ++step_;
@@ -275,9 +275,11 @@ void OrderAgent::finish(std::string failure) {
   }
 }
 
-void OrderAgent::emit(std::string what, std::string machine, std::string detail) {
+void OrderAgent::emit(std::string what, std::string machine, std::string detail,
+                      std::optional<BoxInspection> inspection) {
   if (sink_) {
-    sink_({clock_->now(), order_.id, std::move(what), std::move(machine), std::move(detail)});
+    sink_({clock_->now(), order_.id, std::move(what), std::move(machine), std::move(detail),
+           std::move(inspection)});
   }
 }
 

@@ -161,7 +161,7 @@ void OrderHost::set_state(OrderRecord& r, OrderState state) {
 
 void OrderHost::emit(const std::string& order, std::string what, std::string detail) {
   if (sink_) {
-    sink_({context_.clock->now(), order, std::move(what), {}, std::move(detail)});
+    sink_({context_.clock->now(), order, std::move(what), {}, std::move(detail), std::nullopt});
   }
 }
 

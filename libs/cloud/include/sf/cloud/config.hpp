@@ -32,6 +32,11 @@
 //     users: /etc/smartfactory/users.yaml             # UserName/X509 users and roles
 //     anonymous: viewer                               # the role of anonymous users, or off
 //   pki: /var/lib/smartfactory/pki                    # own certificate and trust lists
+//   knowledge:                                        # the knowledge loop (knowledge_loop.hpp)
+//     layout: /etc/smartfactory/line.yaml             # the line's layout (default: built in)
+//     ontology: /etc/smartfactory/candy-factory.ttl   # default: the built-in ontology
+//     rules: /etc/smartfactory/candy-factory.rules    # default: the built-in rules
+//     due_after_s: 900                                # an order's box is late after this (0: never)
 #pragma once
 
 #include <chrono>
@@ -106,8 +111,17 @@ struct AggregatingServerConfig {
   std::string anonymous;
 };
 
+// The knowledge loop: present in the file = on. Empty paths: the built-in files.
+struct KnowledgeConfig {
+  std::filesystem::path layout;
+  std::filesystem::path ontology;
+  std::filesystem::path rules;
+  std::chrono::seconds due_after{0};
+};
+
 struct GatewayConfig {
   std::vector<ServerConfig> servers;
+  std::optional<KnowledgeConfig> knowledge;
   std::optional<DiscoveryConfig> discovery;
   HistorianConfig historian;
   AggregatingServerConfig aggregating_server;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "sf/cloud/config.hpp"
+#include "sf/cloud/knowledge_loop.hpp"
 #include "sf/cloud/live_bus.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/historian/buffered_store.hpp"
@@ -88,6 +89,8 @@ class Gateway {
   [[nodiscard]] GatewayStatus status() const;
   LiveBus& live();
   historian::Store& store();
+  // The knowledge loop when the configuration has one (alarms, its status); else null.
+  [[nodiscard]] const KnowledgeLoop* knowledge() const;
 
   struct Impl;
 

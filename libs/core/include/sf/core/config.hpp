@@ -92,6 +92,8 @@ class Node {
 
 // Loads a YAML file; a syntax error names file, line and column.
 Result<Node> load_file(const std::filesystem::path& file);
+// A whole file as text; the error names the file and why it cannot be read.
+Result<std::string> read_text(const std::filesystem::path& file);
 // Loads YAML text; `name` stands in for the file name in errors.
 Result<Node> load_string(std::string_view text, std::string name = "<config>");
 

@@ -50,6 +50,13 @@ struct OrderAgentOptions {
   std::uint32_t max_retries = 30;  // per step, then the order fails
 };
 
+// The downloader's inspection of a finished box.
+struct BoxInspection {
+  std::uint16_t box = 0;
+  double weight_g = 0.0;
+  std::map<std::string, int> counts;  // per candy type, zero counts left out
+};
+
 struct OrderEvent {
   Clock::time_point at{};
   std::string order;
@@ -58,13 +65,7 @@ struct OrderEvent {
   std::string what;
   std::string machine;  // the machine or conveyor it concerns
   std::string detail;
-};
-
-// The downloader's inspection of a finished box.
-struct BoxInspection {
-  std::uint16_t box = 0;
-  double weight_g = 0.0;
-  std::map<std::string, int> counts;  // per candy type, zero counts left out
+  std::optional<BoxInspection> inspection;  // "inspected": what the downloader found
 };
 
 using OrderEventSink = std::function<void(const OrderEvent&)>;
@@ -189,7 +190,8 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   void with_belt(const std::string& belt, std::function<void()> then);
   void give_up(std::string failure);
   void finish(std::string failure);
-  void emit(std::string what, std::string machine, std::string detail);
+  void emit(std::string what, std::string machine, std::string detail,
+            std::optional<BoxInspection> inspection = std::nullopt);
   [[nodiscard]] std::string station_of(const std::string& machine) const;
   [[nodiscard]] std::string verify(const BoxInspection& inspection) const;
   // A callback that reaches this agent while it lives (the manager may outlive it).

@@ -27,6 +27,7 @@
 #include "sf/dds/executor.hpp"
 #include "sf/factory/controller_config.hpp"
 #include "sf/factory/order_host.hpp"
+#include "sf/line/inspection.hpp"
 #include "sf/negotiation/agents.hpp"
 #include "sf/negotiation/dds_transport.hpp"
 
@@ -74,6 +75,8 @@ class OrderServiceAgent final : public negotiation::Agent {
  private:
   OrderServiceAgent(const line::Layout& layout, const Clock& clock) : layout_(&layout), clock_(&clock) {}
   void publish();
+  // OrderService.LastInspection of an "inspected" event (sf/line/inspection.hpp).
+  [[nodiscard]] line::InspectionRecord inspection_record(const OrderEvent& e) const;
 
   const line::Layout* layout_;
   const Clock* clock_;
@@ -94,7 +97,7 @@ class OrderServiceAgent final : public negotiation::Agent {
 // The service's model on an OPC UA server (namespace urn:smartfactory:orders):
 //   Objects/OrderService
 //     Queued, InWork, Done, Failed, Remade (UInt32)   LeadTimeP50, LeadTimeP99 (Double, s)
-//     LastEvent, LastInspection (String)
+//     LastEvent, LastInspection (String; LastInspection as sf/line/inspection.hpp writes it)
 //     SubmitOrder(Id: String, BoxType: String, Candy: String[] "type:quantity") → OrderId: String
 // SubmitOrder answers BadInvalidArgument for an order the catalog refuses or an id taken, and
 // needs the role operator (a viewer gets BadUserAccessDenied from the server's role check).

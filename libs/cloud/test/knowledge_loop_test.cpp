@@ -1,0 +1,192 @@
+// The knowledge loop over the repository's ontology, rules and default layout: inspections and
+// machine faults as the gateway delivers them become facts, and the rules' violations alarms.
+#include "sf/cloud/knowledge_loop.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "sf/line/inspection.hpp"
+
+namespace sf::cloud {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string source_file(const std::string& path) {
+  const char* root = std::getenv("SF_SOURCE_DIR");
+  std::ifstream in(std::string(root != nullptr ? root : ".") + "/" + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class KnowledgeLoopTest : public ::testing::Test {
+ protected:
+  void make(std::chrono::seconds due_after = 0s) {
+    auto layout = line::default_layout();
+    ASSERT_TRUE(layout) << layout.error().describe();
+    layout_ = std::move(*layout);
+    KnowledgeLoopOptions o;
+    o.ontology = source_file("ontology/candy-factory.ttl");
+    o.rules = source_file("rules/candy-factory.rules");
+    ASSERT_FALSE(o.ontology.empty() || o.rules.empty()) << "SF_SOURCE_DIR names the repository";
+    o.due_after = due_after;
+    auto loop = KnowledgeLoop::create(layout_, o, [this](const Alarm& a) { alarms.push_back(a); });
+    ASSERT_TRUE(loop) << loop.error().describe();
+    loop_ = std::move(*loop);
+    // The static data of the default line violates nothing.
+    ASSERT_TRUE(alarms.empty()) << alarms.front().message;
+  }
+
+  void value(std::string path, historian::Value v) {
+    historian::SeriesInfo info{"line", "ns=2;s=x", std::move(path), historian::DataType::string, {}};
+    LiveUpdate u{&info, {}};
+    u.sample.source_time = now_;
+    u.sample.value = std::move(v);
+    now_ += 1s;
+    loop_->on_value(u);
+  }
+  void inspect(const line::InspectionRecord& r) {
+    value("/Objects/OrderService/LastInspection", format_inspection(r));
+  }
+  void fault(const std::string& machine, const std::string& text) {
+    value("/Objects/Machines/" + machine + "/Fault", text);
+  }
+  std::vector<Alarm> raised(std::string_view rule) const {
+    std::vector<Alarm> out;
+    for (const auto& a : alarms) {
+      if (a.rule == rule && a.active) {
+        out.push_back(a);
+      }
+    }
+    return out;
+  }
+
+  line::Layout layout_;
+  std::unique_ptr<KnowledgeLoop> loop_;
+  std::vector<Alarm> alarms;
+  historian::Timestamp now_{std::chrono::sys_days{std::chrono::November / 27 / 2026}};
+};
+
+line::InspectionRecord box(std::string order, std::uint32_t id, std::map<std::string, int> counted) {
+  return {std::move(order),   id,   "small-box", {{"chocolate", 4}, {"gummy", 3}},
+          std::move(counted), 80.0, 30.0};
+}
+
+TEST_F(KnowledgeLoopTest, ABoxHoldingItsOrderRaisesNothing) {
+  make();
+  inspect(box("alice-1", 7, {{"chocolate", 4}, {"gummy", 3}}));
+  EXPECT_TRUE(alarms.empty()) << alarms.front().message;
+  EXPECT_EQ(loop_->status().inspections, 1U);
+  EXPECT_EQ(loop_->status().rejected, 0U);
+}
+
+TEST_F(KnowledgeLoopTest, ABoxWhoseContentDiffersRaisesOneContentMismatchWithItsExplanation) {
+  make();
+  inspect(box("alice-1", 7, {{"chocolate", 4}, {"gummy", 2}}));
+  ASSERT_EQ(alarms.size(), 1U);
+  const Alarm& a = alarms.front();
+  EXPECT_EQ(a.rule, "contentMismatch");
+  EXPECT_TRUE(a.active);
+  EXPECT_EQ(a.message, "gummy bear: ordered 3, the box holds 2");
+  EXPECT_TRUE(a.entity.ends_with("Box_alice-1_7")) << a.entity;
+  bool quantity = false;
+  for (const auto& f : a.facts) {
+    quantity = quantity || (f.find("quantity") != std::string::npos && f.find("\"3\"") != std::string::npos);
+  }
+  EXPECT_TRUE(quantity) << "the explanation holds the order line's quantity";
+  // The order made again in a good box: that box raises nothing; the rejected box's alarm stays.
+  inspect(box("alice-1", 9, {{"chocolate", 4}, {"gummy", 3}}));
+  EXPECT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(loop_->active_alarms().size(), 1U);
+}
+
+TEST_F(KnowledgeLoopTest, ACandyTypeMissingFromTheBoxIsAMismatchToo) {
+  make();
+  inspect(box("bob-1", 3, {{"chocolate", 4}, {"lollipop", 3}}));
+  ASSERT_EQ(raised("contentMismatch").size(), 1U);
+  EXPECT_EQ(raised("contentMismatch").front().message, "gummy bear: ordered 3, the box holds 0");
+}
+
+TEST_F(KnowledgeLoopTest, AnOrderLineOverTheBoxCapacityIsReported) {
+  make();
+  line::InspectionRecord r{"big-1", 4, "small-box", {{"toffee", 13}}, {{"toffee", 12}}, 140.0, 10.0};
+  inspect(r);
+  ASSERT_EQ(raised("overCapacity").size(), 1U);
+  EXPECT_EQ(raised("overCapacity").front().message, "quantity 13 exceeds the box capacity 12");
+}
+
+TEST_F(KnowledgeLoopTest, ABoxInspectedAfterItsDueTimeIsLate) {
+  make(60s);
+  inspect(box("quick-1", 1, {{"chocolate", 4}, {"gummy", 3}}));  // 30 s after acceptance
+  EXPECT_TRUE(raised("late").empty());
+  auto slow = box("slow-1", 2, {{"chocolate", 4}, {"gummy", 3}});
+  slow.lead_s = 90.0;
+  inspect(slow);
+  ASSERT_EQ(raised("late").size(), 1U);
+  EXPECT_TRUE(raised("late").front().entity.ends_with("Box_slow-1_2"));
+}
+
+TEST_F(KnowledgeLoopTest, AMachineFaultIsRaisedOnceAndClearedWhenItGoes) {
+  make();
+  fault("Conveyor3", "jam (fault 1)");
+  fault("Conveyor3", "jam (fault 1)");  // the same value again
+  ASSERT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(alarms[0].rule, "fault");
+  EXPECT_EQ(alarms[0].message, "in state fault: jam (fault 1)");
+  fault("Conveyor3", "");
+  ASSERT_EQ(alarms.size(), 2U);
+  EXPECT_FALSE(alarms[1].active);
+  EXPECT_EQ(alarms[1].id, alarms[0].id);
+  EXPECT_TRUE(loop_->active_alarms().empty());
+}
+
+TEST_F(KnowledgeLoopTest, UnreadableValuesAreCountedAndTheLoopGoesOn) {
+  make();
+  value("/Objects/OrderService/LastInspection", std::string("alice-1 box=x"));
+  value("/Objects/Machines/Conveyor3/Fault", std::int64_t{3});
+  value("/Objects/Machines/Conveyor3/Speed", 0.4);  // not a fact the loop knows: left alone
+  EXPECT_EQ(loop_->status().rejected, 2U);
+  EXPECT_NE(loop_->status().last_error.find("Fault"), std::string::npos) << loop_->status().last_error;
+  inspect(box("alice-1", 7, {{"chocolate", 1}, {"gummy", 3}}));
+  EXPECT_EQ(raised("contentMismatch").size(), 1U);
+}
+
+TEST_F(KnowledgeLoopTest, AnAlarmIsAHistorianEventWithItsRuleAndFacts) {
+  make();
+  inspect(box("alice-1", 7, {{"chocolate", 4}, {"gummy", 2}}));
+  ASSERT_EQ(alarms.size(), 1U);
+  const historian::Event e = alarm_event(alarms.front(), "knowledge");
+  EXPECT_EQ(e.server, "knowledge");
+  EXPECT_EQ(e.source_name, "Box_alice-1_7");
+  EXPECT_EQ(e.message, alarms.front().message);
+  EXPECT_EQ(e.time, alarms.front().time);
+  const auto fields = nlohmann::json::parse(e.fields);
+  EXPECT_EQ(fields["rule"], "contentMismatch");
+  EXPECT_TRUE(fields["active"].get<bool>());
+  EXPECT_EQ(fields["facts"].size(), alarms.front().facts.size());
+  Alarm cleared = alarms.front();
+  cleared.active = false;
+  EXPECT_NE(alarm_event(cleared, "knowledge").event_id, e.event_id);
+}
+
+TEST(KnowledgeLoopCreate, BadRulesAreRefusedNamingTheirPlace) {
+  auto layout = line::default_layout();
+  ASSERT_TRUE(layout);
+  KnowledgeLoopOptions o;
+  o.rules = "[broken: (?a ?b ?c) -> ";
+  o.rules_name = "mine.rules";
+  auto loop = KnowledgeLoop::create(*layout, o, nullptr);
+  ASSERT_FALSE(loop);
+  EXPECT_NE(loop.error().message.find("mine.rules"), std::string::npos) << loop.error().message;
+  o.rules = "";
+  o.ontology = "@prefix x: <urn:x#> . x:a x:b";
+  EXPECT_FALSE(KnowledgeLoop::create(*layout, o, nullptr));
+}
+
+}  // namespace
+}  // namespace sf::cloud

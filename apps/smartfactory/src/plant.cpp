@@ -240,7 +240,7 @@ void register_faults(CLI::App& plant, CommandResult& result) {
       ->required();
   faults->add_flag("--json", as_json, "Print the answer as JSON");
   const char* kinds =
-      "jam:BELT, dispenser-empty:DISPENSER, axis-fault:ROBOT:AXIS[:CODE], cable-cut:ROBOT,\n"
+      "jam:BELT, dispenser-empty:DISPENSER, mixup:DISPENSER, axis-fault:ROBOT:AXIS[:CODE], cable-cut:ROBOT,\n"
       "plc-unreachable:MACHINE, plc-exception:MACHINE[:CODE], box-drop:BOX";
   for (const char* op : {"inject", "clear"}) {
     auto* cmd = faults->add_subcommand(op, std::string(op) + " a fault: " + kinds);

@@ -11,9 +11,9 @@ namespace sf::plant {
 
 namespace {
 
-constexpr FaultKind kKinds[] = {FaultKind::jam,       FaultKind::dispenser_empty, FaultKind::axis_fault,
-                                FaultKind::cable_cut, FaultKind::plc_unreachable, FaultKind::plc_exception,
-                                FaultKind::box_drop};
+constexpr FaultKind kKinds[] = {
+    FaultKind::jam,       FaultKind::dispenser_empty, FaultKind::mixup,         FaultKind::axis_fault,
+    FaultKind::cable_cut, FaultKind::plc_unreachable, FaultKind::plc_exception, FaultKind::box_drop};
 constexpr std::uint16_t kDefaultAxisError = 0x7310;  // CiA 301/402: speed (overspeed)
 constexpr std::uint32_t kDefaultException = 4;       // MB AP §7: server device failure
 
@@ -40,6 +40,8 @@ std::string_view to_string(FaultKind kind) {
       return "jam";
     case FaultKind::dispenser_empty:
       return "dispenser-empty";
+    case FaultKind::mixup:
+      return "mixup";
     case FaultKind::axis_fault:
       return "axis-fault";
     case FaultKind::cable_cut:
@@ -68,10 +70,11 @@ Result<FaultSpec> parse_fault(std::string_view text) {
     }
   }
   if (!known) {
-    return make_error(Errc::invalid_argument,
-                      fmt::format("unknown fault '{}' (known: jam, dispenser-empty, axis-fault, cable-cut, "
-                                  "plc-unreachable, plc-exception, box-drop)",
-                                  parts[0]));
+    std::string names;
+    for (FaultKind k : kKinds) {
+      names += fmt::format("{}{}", names.empty() ? "" : ", ", to_string(k));
+    }
+    return make_error(Errc::invalid_argument, fmt::format("unknown fault '{}' (known: {})", parts[0], names));
   }
   if (parts.size() < 2 || parts[1].empty()) {
     return make_error(Errc::invalid_argument,

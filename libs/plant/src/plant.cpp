@@ -10,6 +10,13 @@
 
 namespace sf::plant {
 
+namespace {
+// The index of a dispenser known to be in the layout (check() saw it).
+std::size_t dispenser_index(const Layout& layout, std::string_view name) {
+  return static_cast<std::size_t>(layout.dispenser(name) - layout.dispensers.data());
+}
+}  // namespace
+
 Plant::Plant(Layout layout, const Clock& clock, PlantOptions options)
     : world_(std::move(layout), options.seed), clock_(&clock), last_(clock.now()) {
   const Layout& l = world_.layout();
@@ -78,6 +85,15 @@ Status Plant::check(const FaultSpec& f) const {
       return l.belt(f.target) != nullptr ? Status{} : unknown("belt");
     case FaultKind::dispenser_empty:
       return l.dispenser(f.target) != nullptr ? Status{} : unknown("dispenser");
+    case FaultKind::mixup:
+      if (l.dispenser(f.target) == nullptr) {
+        return unknown("dispenser");
+      }
+      if (l.catalog.candy_types.size() < 2) {
+        return make_error(Errc::invalid_argument,
+                          fmt::format("fault {}: the catalog has no other candy type to mix up", format(f)));
+      }
+      return {};
     case FaultKind::axis_fault:
     case FaultKind::cable_cut:
       return smart_robot(f.target) != nullptr ? Status{} : unknown("smart robot");
@@ -122,10 +138,13 @@ Status Plant::apply(const FaultSpec& f, bool on) {
       world_.set_jam(*l.belt_index(f.target), on);
       break;
     case FaultKind::dispenser_empty: {
-      const auto d = static_cast<std::size_t>(l.dispenser(f.target) - l.dispensers.data());
+      const std::size_t d = dispenser_index(l, f.target);
       world_.set_stock(d, on ? 0 : l.dispensers[d].capacity);
       break;
     }
+    case FaultKind::mixup:
+      world_.set_mixup(dispenser_index(l, f.target), on);
+      break;
     case FaultKind::axis_fault:
       if (on) {
         smart_robot(f.target)->axis_fault(f.argument, f.code);

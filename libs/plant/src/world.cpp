@@ -24,6 +24,7 @@ World::World(Layout layout, std::uint64_t seed) : layout_(std::move(layout)), rn
   for (const auto& d : layout_.dispensers) {
     stock_.push_back(d.stock);
   }
+  mixed_up_.assign(layout_.dispensers.size(), false);
   for (const auto& type : layout_.catalog.box_types) {
     max_half_ = std::max(max_half_, type.size_m.x / 2.0);
   }
@@ -208,6 +209,21 @@ void World::set_stock(std::size_t dispenser, int stock) {
   }
 }
 
+void World::set_mixup(std::size_t dispenser, bool mixed_up) {
+  if (mixed_up_.at(dispenser) == mixed_up) {
+    return;
+  }
+  mixed_up_[dispenser] = mixed_up;
+  const std::string& holds = layout_.catalog.candy_types[dispensed_candy(dispenser)].name;
+  record(mixed_up ? EventKind::fault_raised : EventKind::fault_cleared, layout_.dispensers[dispenser].name, 0,
+         -1, holds, mixed_up ? "mixup: holds " + holds : "mixup cleared");
+}
+
+std::size_t World::dispensed_candy(std::size_t dispenser) const {
+  const std::size_t own = *layout_.catalog.candy_index(layout_.dispensers.at(dispenser).candy);
+  return mixed_up_[dispenser] ? (own + 1) % layout_.catalog.candy_types.size() : own;
+}
+
 void World::set_tool(std::size_t robot, const motion::ToolPose& pose, std::vector<double> joints) {
   tools_.at(robot).pose = pose;
   tools_[robot].joints = std::move(joints);
@@ -245,9 +261,10 @@ void World::pick(std::size_t robot) {
       return;
     }
     set_stock(d, stock_[d] - 1);
-    tool.held = static_cast<int>(*layout_.catalog.candy_index(spec.candy));
+    tool.held = static_cast<int>(dispensed_candy(d));
     ++counters_.picked;
-    record(EventKind::candy_picked, name, 0, -1, spec.candy, spec.name);
+    record(EventKind::candy_picked, name, 0, -1,
+           layout_.catalog.candy_types[static_cast<std::size_t>(tool.held)].name, spec.name);
     return;
   }
   ++counters_.pick_missed;

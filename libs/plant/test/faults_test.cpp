@@ -31,12 +31,83 @@ TEST(FaultSpecTest, ParsesEveryKindAndRefusesNonsense) {
   EXPECT_FALSE(parse_fault("box-drop:first"));
 }
 
+TEST(FaultSpecTest, AMixupNamesItsDispenserAndRoundTrips) {
+  const auto mixup = fault("mixup:toshiba-toffee");
+  EXPECT_EQ(mixup.kind, FaultKind::mixup);
+  EXPECT_EQ(mixup.target, "toshiba-toffee");
+  EXPECT_EQ(format(mixup), "mixup:toshiba-toffee");
+  EXPECT_EQ(fault(format(mixup)), mixup);
+  EXPECT_FALSE(parse_fault("mixup"));
+  EXPECT_FALSE(parse_fault("mixup:"));
+  EXPECT_FALSE(parse_fault("mixup:toshiba-toffee:chocolate"));
+  auto unknown = parse_fault("mix-up:toshiba-toffee");
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.error().message.find("mixup"), std::string::npos) << unknown.error().message;
+}
+
 TEST(PlantFaults, UnknownTargetsAreRefused) {
   Rig rig;
   EXPECT_FALSE(rig.plant().inject(fault("jam:conveyor9")));
   EXPECT_FALSE(rig.plant().inject(fault("cable-cut:denso")));  // a legacy robot has no EtherCAT
   EXPECT_FALSE(rig.plant().inject(fault("plc-unreachable:scara-robot-1")));
+  EXPECT_FALSE(rig.plant().inject(fault("mixup:toshiba-mint")));
+  EXPECT_FALSE(rig.plant().inject(fault("mixup:toshiba")));  // a robot is not a dispenser
+  EXPECT_FALSE(rig.plant().clear(fault("mixup:conveyor2")));
   EXPECT_TRUE(rig.plant().active_faults().empty());
+}
+
+TEST(PlantFaults, AMixupIsRefusedWhenTheCatalogHasNoOtherCandy) {
+  ManualClock clock;
+  Layout layout = *default_layout();
+  layout.catalog.candy_types.resize(1);  // chocolate only
+  std::erase_if(layout.dispensers, [](const DispenserSpec& d) { return d.candy != "chocolate"; });
+  for (auto& r : layout.robots) {
+    std::erase_if(r.dispensers,
+                  [](const std::string& d) { return d.find("chocolate") == std::string::npos; });
+  }
+  Plant plant(std::move(layout), clock);
+  auto refused = plant.inject(fault("mixup:denso-chocolate"));
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("no other candy type"), std::string::npos)
+      << refused.error().message;
+}
+
+TEST(PlantFaults, AMixedUpDispenserGivesTheLegacyRobotTheNextCandyUntilCleared) {
+  Rig rig;
+  const auto& catalog = rig.world().layout().catalog;
+  const auto toffee = *catalog.candy_index("toffee");
+  const auto chocolate = *catalog.candy_index("chocolate");
+  ASSERT_EQ((toffee + 1) % catalog.candy_types.size(), chocolate);  // the catalog's last wraps to its first
+  rig.hr("uploader", transfer_plc::kBoxType, 1);
+  ASSERT_EQ(rig.run_job("uploader"), FaultCode::none);
+  rig.convey({"conveyor1", "conveyor3"}, 0);
+  ASSERT_TRUE(rig.plant().inject(fault("mixup:toshiba-toffee")));
+  EXPECT_EQ(rig.plant().snapshot().faults, std::vector<std::string>{"mixup:toshiba-toffee"});
+  EXPECT_EQ(rig.world().events().entries().back().kind, EventKind::fault_raised);
+  EXPECT_EQ(rig.world().events().entries().back().where, "toshiba-toffee");
+  // The controller asks for toffee; its vacuum cup cannot tell, the job succeeds with chocolate.
+  rig.hr("toshiba", robot_controller::kCandyType, static_cast<std::uint16_t>(toffee + 1));
+  EXPECT_EQ(rig.run_job("toshiba"), FaultCode::none);
+  const Event* picked = nullptr;
+  for (const auto& e : rig.world().events().entries()) {
+    picked = e.kind == EventKind::candy_picked ? &e : picked;
+  }
+  ASSERT_NE(picked, nullptr);
+  EXPECT_EQ(picked->candy, "chocolate");
+  EXPECT_EQ(picked->detail, "toshiba-toffee");
+  EXPECT_EQ(rig.plant().snapshot().boxes.at(0).slots.at(0), "chocolate");
+  const auto& dispensers = rig.world().layout().dispensers;
+  EXPECT_EQ(rig.world().stock(static_cast<std::size_t>(rig.world().layout().dispenser("toshiba-toffee") -
+                                                       dispensers.data())),
+            399);
+
+  ASSERT_TRUE(rig.plant().clear(fault("mixup:toshiba-toffee")));
+  EXPECT_TRUE(rig.plant().active_faults().empty());
+  EXPECT_EQ(rig.world().events().entries().back().kind, EventKind::fault_cleared);
+  rig.run_for(3s);  // the arm is back home
+  rig.hr("toshiba", robot_controller::kSlot, 1);
+  EXPECT_EQ(rig.run_job("toshiba"), FaultCode::none);
+  EXPECT_EQ(rig.plant().snapshot().boxes.at(0).slots.at(1), "toffee");
 }
 
 TEST(PlantFaults, AJamLatchesTheConveyorFaultUntilResetAfterItIsGone) {

@@ -144,5 +144,30 @@ TEST(ControlRequest, OneAnswerPerLineWithoutANetwork) {
   EXPECT_EQ(snapshot["snapshot"]["belts"].size(), 5U);
 }
 
+TEST(ControlRequest, AMixupIsInjectedListedAndClearedByRequest) {
+  ManualClock clock;
+  Plant plant(*default_layout(), clock);
+  const auto d =
+      static_cast<std::size_t>(plant.layout().dispenser("denso-lollipop") - plant.layout().dispensers.data());
+  const auto ask = [&](std::string_view line) { return json::parse(handle_control_request(plant, line)); };
+  EXPECT_EQ(ask(R"({"op":"inject","fault":"mixup:denso-lollipop"})")["ok"], true);
+  EXPECT_TRUE(plant.world().mixed_up(d));
+  EXPECT_EQ(plant.world().dispensed_candy(d), *plant.layout().catalog.candy_index("toffee"));
+  EXPECT_EQ(ask(R"({"op":"faults"})")["faults"], json::array({"mixup:denso-lollipop"}));
+  const json unknown = ask(R"({"op":"inject","fault":"mixup:denso-mint"})");
+  EXPECT_EQ(unknown["ok"], false);
+  EXPECT_NE(unknown["error"].get<std::string>().find("no dispenser 'denso-mint'"), std::string::npos)
+      << unknown;
+  EXPECT_EQ(ask(R"({"op":"inject","fault":"mixup"})")["ok"], false);
+  EXPECT_EQ(ask(R"({"op":"clear","fault":"mixup:denso-lollipop"})")["ok"], true);
+  EXPECT_FALSE(plant.world().mixed_up(d));
+  EXPECT_EQ(ask(R"({"op":"faults"})")["faults"], json::array());
+  const json events = ask(R"({"op":"events","since":0})")["events"];
+  ASSERT_EQ(events.size(), 2U);
+  EXPECT_EQ(events[0]["kind"], "fault_raised");
+  EXPECT_EQ(events[0]["where"], "denso-lollipop");
+  EXPECT_EQ(events[1]["kind"], "fault_cleared");
+}
+
 }  // namespace
 }  // namespace sf::plant

@@ -227,6 +227,37 @@ TEST_F(ToolTest, AnEmptyDispenserGivesNothing) {
   EXPECT_EQ(world_.events().entries().back().detail, "scara1-chocolate is empty");
 }
 
+TEST_F(ToolTest, AMixedUpDispenserGivesTheCatalogsNextCandyUntilRestored) {
+  const BoxId id = put("conveyor2/scara1");
+  const std::size_t r = robot("scara-robot-1");
+  const auto& catalog = world_.layout().catalog;
+  const std::size_t d = 1;  // scara1-gummy
+  ASSERT_EQ(world_.layout().dispensers[d].name, "scara1-gummy");
+  world_.set_mixup(d, true);
+  EXPECT_TRUE(world_.mixed_up(d));
+  EXPECT_EQ(world_.events().entries().back().kind, EventKind::fault_raised);
+  EXPECT_EQ(world_.events().entries().back().candy, "lollipop");
+  tool_at(r, dispenser("scara1-gummy"));
+  world_.set_gripper(r, true);
+  EXPECT_EQ(world_.tool(r).held, static_cast<int>(*catalog.candy_index("lollipop")));  // gummy's next
+  EXPECT_EQ(world_.events().entries().back().kind, EventKind::candy_picked);
+  EXPECT_EQ(world_.events().entries().back().candy, "lollipop");
+  EXPECT_EQ(world_.stock(d), 399);
+  tool_at(r, world_.slot_position(*world_.box(id), 0) + motion::Vec3{0.0, 0.0, 0.01});
+  world_.set_gripper(r, false);
+  EXPECT_EQ(world_.box(id)->slots[0], static_cast<int>(*catalog.candy_index("lollipop")));
+  EXPECT_EQ(world_.events().entries().back().candy, "lollipop");
+
+  world_.set_mixup(d, false);
+  EXPECT_EQ(world_.events().entries().back().kind, EventKind::fault_cleared);
+  tool_at(r, dispenser("scara1-gummy"));
+  world_.set_gripper(r, true);
+  EXPECT_EQ(world_.tool(r).held, static_cast<int>(*catalog.candy_index("gummy")));
+  // The other dispensers were never mixed up.
+  EXPECT_FALSE(world_.mixed_up(0));
+  EXPECT_EQ(world_.dispensed_candy(0), *catalog.candy_index("chocolate"));
+}
+
 TEST_F(WorldTest, TakingABoxInspectsItsRealContent) {
   const BoxId id = put("conveyor4/download");
   ASSERT_NE(world_.box(id), nullptr);

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "sf/plant/plant.hpp"
@@ -83,6 +84,64 @@ TEST(SimulationFaults, APlcUnreachableIsWaitedForAndTheLineGoesOnWhenItReturns) 
   ASSERT_TRUE(sim->clear("plc-unreachable:conveyor3"));
   EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 3600s));
   expect_all_done_with_their_content(*sim);
+  dump_on_failure(*sim);
+}
+
+// The first event `what` of an order, if any.
+const factory::OrderEvent* first_event(const Simulation& sim, std::string_view order, std::string_view what) {
+  for (const auto& e : sim.order_events()) {
+    if (e.order == order && e.what == what) {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+// The downloader's inspection of a box as the plant recorded it ("weight=…g candy=n …").
+std::string plant_inspection(const Simulation& sim, plant::BoxId box) {
+  for (const auto& e : sim.plant().world().events().entries()) {
+    if (e.kind == plant::EventKind::box_inspected && e.box == box) {
+      return e.detail;
+    }
+  }
+  return {};
+}
+
+TEST(SimulationFaults, ABoxWithTheWrongCandyIsRejectedAndTheOrderMadeAgain) {
+  auto sim = make();
+  ASSERT_TRUE(sim);
+  // Toffee only at the TOSHIBA; its toffee dispenser refilled with the catalog's next candy, chocolate.
+  ASSERT_TRUE(sim->inject("mixup:toshiba-toffee"));
+  ASSERT_TRUE(sim->submit({"a", "small-box", {{"toffee", 2}}}));
+  ASSERT_TRUE(sim->run_until([&] { return first_event(*sim, "a", "rejected") != nullptr; }, 600s));
+  ASSERT_TRUE(sim->clear("mixup:toshiba-toffee"));
+  EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 3600s));
+
+  const auto& r = sim->host().records().at("a");
+  EXPECT_EQ(r.state, factory::OrderState::done) << r.failure;
+  EXPECT_EQ(r.attempts, 2U);
+  EXPECT_EQ(sim->host().remade(), 1U);
+  ASSERT_EQ(r.boxes.size(), 2U);
+  const auto contents = placed(sim->plant());
+  EXPECT_EQ(contents.at(r.boxes[0]), (std::map<std::string, int>{{"chocolate", 2}}));
+  EXPECT_EQ(contents.at(r.boxes[1]), r.order.counts());
+  ASSERT_TRUE(r.inspection);
+  EXPECT_EQ(r.inspection->box, r.boxes[1]);
+  EXPECT_EQ(r.inspection->counts, r.order.counts());
+  // The first box: inspected with the wrong candy and rejected for it, before the order was made again.
+  EXPECT_EQ(plant_inspection(*sim, r.boxes[0]), "weight=65.0g chocolate=2");
+  const auto* rejected = first_event(*sim, "a", "rejected");
+  ASSERT_NE(rejected, nullptr);
+  EXPECT_EQ(rejected->detail,
+            fmt::format("content mismatch in box {}: 2 chocolate of 0, 0 toffee of 2", r.boxes[0]));
+  const auto* remade = first_event(*sim, "a", "remade");
+  ASSERT_NE(remade, nullptr);
+  EXPECT_GE(remade->at, rejected->at);
+  std::size_t rejects = 0;
+  for (const auto& e : sim->order_events()) {
+    rejects += e.order == "a" && e.what == "rejected" ? 1U : 0U;
+  }
+  EXPECT_EQ(rejects, 1U);
   dump_on_failure(*sim);
 }
 

@@ -159,7 +159,12 @@ void OrderAgent::on_work_done(const cnp::Conversation& c) {
     }
     inspection_ = in;
     emit("inspected", c.contractor, c.result, in);
-    return finish(rejected_.empty() ? verify(in) : rejected_);
+    // A box whose content differs from its order goes out as a reject like one given up on: the
+    // attempt fails and the host makes the order again.
+    if (std::string mismatch = rejected_.empty() ? verify(in) : std::string{}; !mismatch.empty()) {
+      reject(std::move(mismatch));
+    }
+    return finish(rejected_);
   }
   ++step_;
   retries_ = 0;
@@ -256,11 +261,15 @@ void OrderAgent::give_up(std::string failure) {
   if (box_ == 0 || !rejected_.empty() || steps_[step_].type == kDownload) {
     return finish(rejected_.empty() ? std::move(failure) : rejected_);
   }
-  rejected_ = std::move(failure);
-  emit("rejected", machine_, rejected_);
+  reject(std::move(failure));
   step_ = steps_.size() - 1;
   retries_ = 0;
   begin_step();
+}
+
+void OrderAgent::reject(std::string why) {
+  rejected_ = std::move(why);
+  emit("rejected", machine_, rejected_);
 }
 
 void OrderAgent::finish(std::string failure) {

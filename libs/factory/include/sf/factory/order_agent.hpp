@@ -18,7 +18,8 @@
 // conversation that finds no machine at all, or a route or transport that
 // fails, is tried again after a delay. The downloader's inspection (weight,
 // candies per type) ends the order: it is done when the content equals the
-// order, failed ("content mismatch") otherwise. A box whose order cannot be
+// order; otherwise the box is rejected ("content mismatch") and the attempt
+// fails, for the host to make the order again. A box whose order cannot be
 // finished (a step failed again and again) is taken off the line as a reject
 // by the downloader, so that it does not stand in the way of others. Every step is reported as an
 // OrderEvent, the order's lifecycle for the cloud.
@@ -189,6 +190,9 @@ class OrderAgent : public std::enable_shared_from_this<OrderAgent> {
   // Runs `then` once `belt` is this product's (at once, or from tick()).
   void with_belt(const std::string& belt, std::function<void()> then);
   void give_up(std::string failure);
+  // The box is a reject (a "rejected" event): it leaves the line at the downloader and the
+  // attempt fails with `why`.
+  void reject(std::string why);
   void finish(std::string failure);
   void emit(std::string what, std::string machine, std::string detail,
             std::optional<BoxInspection> inspection = std::nullopt);

@@ -3,6 +3,8 @@
 //   jam:BELT                   the belt slips under its boxes; jam input and
 //                              exit photo-eye stuck on; the PLC latches fault 1
 //   dispenser-empty:DISPENSER  stock 0 (clearing refills it)
+//   mixup:DISPENSER            refilled with the wrong candy: every pick there
+//                              takes the catalog's next candy type (wrapping)
 //   axis-fault:ROBOT:AXIS[:CODE]  a smart robot's drive faults (CiA 402 fault
 //                              bit, 0x603F = CODE, default 0x7310 overspeed)
 //   cable-cut:ROBOT            the smart robot's EtherCAT slave drops out of
@@ -26,6 +28,7 @@ namespace sf::plant {
 enum class FaultKind {
   jam,
   dispenser_empty,
+  mixup,
   axis_fault,
   cable_cut,
   plc_unreachable,

@@ -119,6 +119,12 @@ class World {
   // --- dispensers ---
   [[nodiscard]] int stock(std::size_t dispenser) const { return stock_.at(dispenser); }
   void set_stock(std::size_t dispenser, int stock);
+  // Fault: the dispenser was refilled with the wrong candy, the catalog's
+  // next type (wrapping); a pick there takes that one until it is restored.
+  void set_mixup(std::size_t dispenser, bool mixed_up);
+  [[nodiscard]] bool mixed_up(std::size_t dispenser) const { return mixed_up_.at(dispenser); }
+  // The catalog candy type a pick at the dispenser takes now.
+  [[nodiscard]] std::size_t dispensed_candy(std::size_t dispenser) const;
 
   // --- robot tools: pose and gripper as the arm and its valve make them ---
   [[nodiscard]] const Tool& tool(std::size_t robot) const { return tools_.at(robot); }
@@ -173,6 +179,7 @@ class World {
   double max_half_ = 0.0;                          // half the longest box type
   std::vector<Box*> moving_;                       // move_belt's scratch list
   std::vector<int> stock_;
+  std::vector<bool> mixed_up_;  // per dispenser
   std::vector<Tool> tools_;
   BoxId next_box_ = 1;
   EventLog events_;

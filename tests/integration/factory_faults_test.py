@@ -10,10 +10,15 @@ making 14 orders, while the test, one after the other:
     (Clear, Reset, Start over OPC UA) it carries boxes again;
   - makes the DENSO's PLC unreachable for 15 s: no load is awarded to it meanwhile, and it loads
     again after;
+  - refills the TOSHIBA's toffee dispenser with the wrong candy (`mixup:toshiba-toffee`) and orders
+    toffee: the downloader's vision check finds chocolate in the next box with toffee, the box goes
+    out as a reject and, the dispenser right again, its order is made again;
   - kills the cloud with SIGKILL: the supervisor starts it again and its historian catches up from
     the shop floor's servers (HistoryRead): every box's inspection is in it.
 At the end every order is done exactly once and none failed; the plant uploaded as many boxes as
-were inspected (orders + remade) and lost none.
+were inspected (orders + remade) and lost none; the cloud's knowledge loop raised a
+contentMismatch alarm for the rejected box and for no other, and a fault alarm for the jammed
+conveyor that cleared when it was reset.
 """
 import json
 import os
@@ -23,7 +28,8 @@ import time
 import uuid
 from collections import Counter
 
-from line_harness import (CONTROLLERS, EXECUTE, check_inspections, free_port_range, history_values, node_name,
+from line_harness import (CONTROLLERS, EXECUTE, check_inspections, free_port_range, history_values, knowledge_alarms,
+                          node_name,
                           order_counter, order_events, plant_events, plant_fault, plant_snapshot, write_cloud_config)
 from sftest import Background, binary, check, fail, json_events, run, wait_for
 
@@ -35,6 +41,9 @@ ORDERS = [("f-1", {"chocolate": 3, "gummy": 3}), ("f-2", {"gummy": 2}), ("f-3", 
           ("f-7", {"toffee": 2}), ("f-8", {"lollipop": 2}), ("f-9", {"chocolate": 1}),
           ("f-10", {"gummy": 1, "toffee": 1}), ("f-11", {"lollipop": 1, "chocolate": 1}),
           ("f-12", {"gummy": 2}), ("f-13", {"toffee": 1}), ("f-14", {"lollipop": 1})]
+# Ordered over OPC UA while the toffee dispenser holds chocolate.
+WRONG_CANDY_ORDER = ("f-15", {"toffee": 2})
+ALL = ORDERS + [WRONG_CANDY_ORDER]
 MACHINES_NS = "nsu=urn:smartfactory:machines"
 ABORTED = 9  # PackMLState::Aborted
 STOPPED = 2
@@ -154,6 +163,36 @@ def denso_unreachable(line):
     return line.now()
 
 
+def wrong_candy(line, endpoint):
+    """The TOSHIBA's toffee dispenser holds chocolate until the first box with its candy is
+    rejected (WRONG_CANDY_ORDER makes sure one comes); the order of that box."""
+    order, candy = WRONG_CANDY_ORDER
+    plant_fault(line.run_dir, "inject", "mixup:toshiba-toffee")
+    since = line.now()
+    run([binary(), "order", "--server", endpoint, "--id", order, "--box", "small-box",
+         *[a for k, n in candy.items() for a in ("--candy", f"{k}:{n}")]])
+    wrong = lambda: [e for e in line.events("rejected", since) if "chocolate of 0" in e["detail"]]
+    wait_for(wrong, 900, "a box with chocolate instead of toffee rejected at the inspection", interval=1)
+    plant_fault(line.run_dir, "clear", "mixup:toshiba-toffee")
+    print(f"note: wrong candy in the box of {wrong()[0]['order']}: {wrong()[0]['detail']}", flush=True)
+    return wrong()[0]["order"]
+
+
+def check_alarms(tmp, wrong_order, remade):
+    """The knowledge loop's alarms in the historian: a contentMismatch for the box with the wrong
+    candy and for boxes of remade orders only; conveyor 3's jam raised and cleared."""
+    alarms = knowledge_alarms(tmp)
+    print(f"note: {len(alarms)} knowledge alarms: " +
+          "; ".join(f"{a['rule']} {a['source']} {a['message']}" for a in alarms[:20]), flush=True)
+    mismatched = [a for a in alarms if a["rule"] == "contentMismatch" and a["active"]]
+    check(any(a["source"].startswith(f"Box_{wrong_order}_") and "toffee" in a["message"] for a in mismatched),
+          f"a contentMismatch alarm for the box of {wrong_order}: {mismatched}")
+    stray = [a for a in mismatched if a["source"].split("_")[1] not in remade]
+    check(not stray, f"contentMismatch alarms only for boxes that went out as rejects: {stray}")
+    jam = [a["active"] for a in alarms if a["rule"] == "fault" and a["source"] == "Conveyor3" and "jam" in a["message"]]
+    check(jam == [True, False], f"conveyor 3's jam raised and cleared as an alarm: {jam}")
+
+
 def main():
     with tempfile.TemporaryDirectory(prefix="factory_faults_") as tmp:
         line = Line(tmp)
@@ -166,15 +205,21 @@ def main():
             killed_at = kill_robot_mid_load(line)
             jam_cleared_at = jam_conveyor3(line)
             denso_back_at = denso_unreachable(line)
+            wrong_order = wrong_candy(line, endpoint)
             line.kill("cloud")
             wait_for(lambda: (order_counter(endpoint, "Done") or 0) + (order_counter(endpoint, "Failed") or 0) >=
-                     len(ORDERS), 1200, f"{len(ORDERS)} orders finished", interval=3)
+                     len(ALL), 1200, f"{len(ALL)} orders finished", interval=3)
 
             done = Counter(e["order"] for e in line.events("done"))
-            check(set(done) == {o for o, _ in ORDERS} and all(n == 1 for n in done.values()),
+            check(set(done) == {o for o, _ in ALL} and all(n == 1 for n in done.values()),
                   f"every order done exactly once: {dict(done)}")
-            check(order_counter(endpoint, "Failed") == 0 and not line.events("failed"),
-                  f"no order failed: {line.events('failed')}")
+            # An attempt whose box went out as a reject ends "failed" and its order is "remade";
+            # an order failed only when an attempt failed without a remake after it.
+            remakes = Counter(e["order"] for e in line.events("remade"))
+            attempts_failed = Counter(e["order"] for e in line.events("failed"))
+            check(order_counter(endpoint, "Failed") == 0 and
+                  all(attempts_failed[o] <= remakes[o] for o in attempts_failed),
+                  f"no order failed: {line.events('failed')} (remade: {dict(remakes)})")
             renegotiated = [e for e in line.events("awarded", killed_at) if e["detail"].startswith("load")]
             check(renegotiated, "loads were awarded after SCARA Robot 1 was killed")
             after_jam = [e for e in line.events("transported", jam_cleared_at) if e["machine"] == "conveyor3"]
@@ -185,16 +230,19 @@ def main():
             inspected = line.events("inspected")
             snapshot = plant_snapshot(line.run_dir)
             counters = snapshot["counters"]
-            check(counters["uploaded"] == len(inspected) == len(ORDERS) + remade and counters["boxes_lost"] == 0,
+            check(counters["uploaded"] == len(inspected) == len(ALL) + remade and counters["boxes_lost"] == 0,
                   f"every box uploaded was inspected, none lost: {counters}, {len(inspected)} inspected, "
                   f"{remade} remade")
             for e in line.events("remade"):
                 print(f"note: remade {e['order']}: {e['detail']}", flush=True)
 
             wait_for(lambda: len({str(v).split()[0] for v in history_values(
-                tmp, "orders", "/Objects/OrderService/LastInspection") if v}) >= len(ORDERS), 60,
+                tmp, "orders", "/Objects/OrderService/LastInspection") if v}) >= len(ALL), 60,
                 "the restarted cloud's historian to catch up", interval=2)
-            check_inspections(tmp, [o for o, _ in ORDERS], remade={e["order"] for e in line.events("remade")})
+            remade_orders = {e["order"] for e in line.events("remade")}
+            check(wrong_order in remade_orders, f"{wrong_order} was made again: {remade_orders}")
+            check_inspections(tmp, [o for o, _ in ALL], remade=remade_orders)
+            check_alarms(tmp, wrong_order, remade_orders)
             # The restarted IPC's states, read back from its server's history although the cloud
             # was not subscribed yet: Stopped, then up to Execute (auto start).
             states = history_values(tmp, "scara-robot-1", "/Objects/Machines/ScaraRobot1/PackML/Status/StateCurrent")

@@ -66,11 +66,27 @@ def write_cloud_config(tmp, base):
             f.write(f"  - name: {machine}\n    url: opc.tcp://127.0.0.1:{base + i}\n"
                     "    publishing_interval_ms: 100\n    sampling_interval_ms: 50\n"
                     f"    subscribe:\n      - browse_path: /Objects/Machines/{node_name(machine)}/PackML/Status\n"
+                    f"        depth: 1\n      - browse_path: /Objects/Machines/{node_name(machine)}\n"
                     "        depth: 1\n")
         f.write(f"  - name: orders\n    url: opc.tcp://127.0.0.1:{base + len(CONTROLLERS)}\n    security: none\n"
                 "    publishing_interval_ms: 50\n    sampling_interval_ms: 20\n    queue_size: 100\n"
                 "    subscribe:\n      - browse_path: /Objects/OrderService\n        depth: 1\n")
+        f.write("knowledge:\n  due_after_s: 900\n")
     return path
+
+
+def knowledge_alarms(tmp):
+    """The knowledge loop's alarms in the historian (events of the server "knowledge"), oldest first:
+    dicts of time, source, message, rule, active."""
+    events = history(tmp, "events", "--server", "knowledge", "--from", "-1h") or []
+    if isinstance(events, dict):
+        events = events.get("events", [])
+    alarms = []
+    for e in events:
+        fields = json.loads(e.get("fields") or "{}")
+        alarms.append({"time": e.get("time"), "source": e.get("source_name"), "message": e.get("message"),
+                       "rule": fields.get("rule"), "active": fields.get("active")})
+    return alarms
 
 
 def read_value(endpoint, node, ns=None):

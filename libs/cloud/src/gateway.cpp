@@ -119,7 +119,11 @@ Status Gateway::Impl::start_aggregating() {
     aggregating.reset();
     return st;
   }
-  to_aggregating = bus.subscribe([server = aggregating.get()](const LiveUpdate& u) { server->update(u); });
+  to_aggregating = bus.subscribe([server = aggregating.get()](const LiveUpdate& u) {
+    if (!u.replayed) {  // its current values only move forward
+      server->update(u);
+    }
+  });
   on_series = [server = aggregating.get()](const historian::Series& s) { server->add_series(s); };
   // Series known from earlier runs have history already: show them from the start.
   if (auto known = store->list_series()) {

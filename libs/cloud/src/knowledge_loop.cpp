@@ -72,6 +72,10 @@ struct KnowledgeLoop::Impl {
   std::map<std::string, Alarm> active;            // by id
   std::map<std::string, kb::TermId> fault_state;  // machine IRI → its sf:state literal now
   std::set<std::string> orders;                   // orders whose triples are in
+  std::set<std::string> boxes;                    // boxes whose triples are in
+  // Per series of a current value (faults): the source time of the value applied last. A value
+  // read back from history after a reconnect may be older than one the subscription delivered.
+  std::map<std::string, historian::Timestamp> newest;
   KnowledgeLoopStatus st;
 
   kb::TermId sf(std::string_view local) { return dict.iri(fmt::format("{}{}", vocab::kSf, local)); }
@@ -144,6 +148,9 @@ Status KnowledgeLoop::Impl::inspection(const LiveUpdate& u) {
     return r.error();
   }
   const historian::Timestamp at = u.sample.source_time;
+  if (!boxes.insert(fmt::format("{} {}", r->order, r->box)).second) {
+    return {};  // delivered again (read back from history): in already
+  }
   kb::Changes changes;
   if (orders.insert(r->order).second) {
     order_facts(*r, at, changes.add);
@@ -159,6 +166,11 @@ Status KnowledgeLoop::Impl::fault(std::string_view machine, const LiveUpdate& u)
   if (text == nullptr) {
     return make_error(Errc::invalid_argument, fmt::format("{}: a fault is a text", u.series->browse_path));
   }
+  const std::string series = u.series->server + " " + u.series->node_id;
+  if (auto it = newest.find(series); it != newest.end() && u.sample.source_time <= it->second) {
+    return {};  // not newer than the value applied
+  }
+  newest[series] = u.sample.source_time;
   const kb::TermId m = p(machine);
   const std::string key(machine);
   kb::Changes changes;

@@ -231,6 +231,7 @@ void ServerLink::catch_up(const std::vector<DiscoveredVariable>& variables) {
         sample.seq = previous->seq + 1;
       }
       previous = sample;
+      bus_.publish(LiveUpdate{&series.info, sample, true});
       writer_.push(std::move(sample));
       ++caught;
     }
@@ -269,7 +270,7 @@ void ServerLink::on_value(std::size_t index, const ua::DataValue& value) {
   }
   state.last = sample;
   ++samples_;
-  bus_.publish(LiveUpdate{&state.series.info, sample});
+  bus_.publish(LiveUpdate{&state.series.info, sample, false});
   writer_.push(std::move(sample));
 }
 

@@ -42,10 +42,10 @@ class KnowledgeLoopTest : public ::testing::Test {
     ASSERT_TRUE(alarms.empty()) << alarms.front().message;
   }
 
-  void value(std::string path, historian::Value v) {
-    historian::SeriesInfo info{"line", "ns=2;s=x", std::move(path), historian::DataType::string, {}};
-    LiveUpdate u{&info, {}};
-    u.sample.source_time = now_;
+  void value(std::string path, historian::Value v, bool replayed = false) {
+    historian::SeriesInfo info{"line", "ns=2;s=" + path, std::move(path), historian::DataType::string, {}};
+    LiveUpdate u{&info, {}, replayed};
+    u.sample.source_time = replayed ? now_ - 10s : now_;
     u.sample.value = std::move(v);
     now_ += 1s;
     loop_->on_value(u);
@@ -143,6 +143,22 @@ TEST_F(KnowledgeLoopTest, AMachineFaultIsRaisedOnceAndClearedWhenItGoes) {
   EXPECT_FALSE(alarms[1].active);
   EXPECT_EQ(alarms[1].id, alarms[0].id);
   EXPECT_TRUE(loop_->active_alarms().empty());
+}
+
+TEST_F(KnowledgeLoopTest, ValuesReadBackFromHistoryAddWhatWasMissedAndNeverTurnAStateBack) {
+  make();
+  const auto bad = format_inspection(box("alice-1", 7, {{"chocolate", 4}, {"gummy", 2}}));
+  value("/Objects/OrderService/LastInspection", bad);
+  value("/Objects/OrderService/LastInspection", bad, true);  // the same box again: nothing new
+  EXPECT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(loop_->status().inspections, 1U);
+  // A box inspected while the cloud was away, read back after a newer one arrived live.
+  value("/Objects/OrderService/LastInspection", format_inspection(box("bob-1", 8, {{"gummy", 3}})), true);
+  EXPECT_EQ(raised("contentMismatch").size(), 2U);
+  fault("Conveyor3", "jam (fault 1)");
+  fault("Conveyor3", "");
+  value("/Objects/Machines/Conveyor3/Fault", std::string("jam (fault 1)"), true);  // older than the clearing
+  EXPECT_TRUE(raised("fault").size() == 1U && loop_->active_alarms().size() == 2U);
 }
 
 TEST_F(KnowledgeLoopTest, UnreadableValuesAreCountedAndTheLoopGoesOn) {

@@ -18,6 +18,10 @@ namespace sf::cloud {
 struct LiveUpdate {
   const historian::SeriesInfo* series = nullptr;  // valid during the callback
   historian::Sample sample;
+  // Read back from the server's history after a (re)connect (ServerLink::catch_up): it may be
+  // older than values of the series already delivered. Subscribers that keep a current value
+  // skip these; those that keep every value (the knowledge loop's inspections) take them.
+  bool replayed = false;
 };
 
 class LiveBus {

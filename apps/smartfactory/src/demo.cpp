@@ -17,17 +17,15 @@
 #include "sf/core/clock.hpp"
 #include "sf/factory/line_hosts.hpp"
 #include "sf/factory/line_supervisor.hpp"
+#include "sf/factory/line_view.hpp"
 #include "sf/factory/order.hpp"
 #include "sf/line/ontology.hpp"
-#include "sf/opcua/client/client.hpp"
-#include "sf/opcua/client/security_setup.hpp"
 
 namespace sf::app {
 namespace {
 
 namespace fs = std::filesystem;
 namespace fy = sf::factory;
-namespace ua = sf::opcua;
 using nlohmann::json;
 
 constexpr const char* kDemoHelp =
@@ -53,117 +51,15 @@ struct DemoOptions {
   bool hosts = false;
 };
 
-struct Counts {
-  std::uint32_t queued = 0, in_work = 0, done = 0, failed = 0, remade = 0;
-  double lead_p50 = 0, lead_p99 = 0;
-  bool operator==(const Counts&) const = default;
-};
-
-// The order service's counters over its OPC UA server (OrderService.*); with hosts, the client
-// lives in the order service's namespace (its address is only on the OPC UA network).
-class OrderServiceView {
- public:
-  static Result<OrderServiceView> open(const fy::LinePlan& plan) {
-    ua::ClientConfig c;
-    c.session_name = "smartfactory demo";
-    OrderServiceView view;
-    for (const auto& p : plan.processes) {
-      if (p.role != fy::LineRole::orders) {
-        continue;
-      }
-      const auto* host = plan.host_of(p);
-      c.endpoint_url = fmt::format("opc.tcp://{}:{}",
-                                   host != nullptr ? host->address(fy::HostNetworkKind::opcua) : "127.0.0.1",
-                                   p.opcua_port);
-      if (host == nullptr) {
-        view.client_ = std::make_unique<ua::SyncClient>(c);
-        return view;
-      }
-      SF_TRY(fy::with_netns(host->netns, [&] { view.client_ = std::make_unique<ua::SyncClient>(c); }));
-      return view;
-    }
-    return make_error(Errc::not_found, "the line has no order service");
-  }
-  Result<Counts> read() {
-    if (client_->state() != ua::ClientState::Connected) {
-      SF_TRY(client_->connect());
-      auto ns = client_->namespace_index("urn:smartfactory:orders");
-      if (!ns) {
-        return ns.error();
-      }
-      ns_ = *ns;
-    }
-    Counts c;
-    for (auto [name, out] : {std::pair<const char*, std::uint32_t*>{"Queued", &c.queued},
-                             {"InWork", &c.in_work},
-                             {"Done", &c.done},
-                             {"Failed", &c.failed},
-                             {"Remade", &c.remade}}) {
-      auto v = client_->read_value(node(name));
-      if (!v) {
-        return v.error();
-      }
-      *out = v->value.get_if<std::uint32_t>() ? *v->value.get_if<std::uint32_t>() : 0;
-    }
-    for (auto [name, out] :
-         {std::pair<const char*, double*>{"LeadTimeP50", &c.lead_p50}, {"LeadTimeP99", &c.lead_p99}}) {
-      auto v = client_->read_value(node(name));
-      if (!v) {
-        return v.error();
-      }
-      *out = v->value.get_if<double>() ? *v->value.get_if<double>() : 0;
-    }
-    return c;
-  }
-
- private:
-  ua::NodeId node(std::string_view name) const {
-    return {ns_, ua::String(fmt::format("OrderService.{}", name))};
-  }
-  std::unique_ptr<ua::SyncClient> client_;
-  std::uint16_t ns_ = 0;
-};
-
-// Seconds each controller had jobs in work (its Job.WorkingTime over OPC UA, the installation's
-// PKI as the line's processes use it); controllers that do not answer are left out.
-std::vector<std::pair<std::string, double>> working_times(const fy::LinePlan& plan) {
-  std::vector<std::pair<std::string, double>> out;
-  for (const auto& proc : plan.processes) {
-    if (proc.role != fy::LineRole::machine && proc.role != fy::LineRole::gateway) {
-      continue;
-    }
-    ua::ClientConfig c;
-    c.endpoint_url = fmt::format("opc.tcp://127.0.0.1:{}", proc.opcua_port);
-    c.session_name = "smartfactory demo";
-    c.auto_reconnect = false;
-    if (!ua::configure_client_security({}, c)) {
-      continue;
-    }
-    ua::SyncClient client(c);
-    if (!client.connect()) {
-      continue;
-    }
-    auto ns = client.namespace_index("urn:smartfactory:machines");
-    if (!ns) {
-      continue;
-    }
-    auto v = client.read_value(ua::NodeId(*ns, ua::String(line::iri_name(proc.name) + ".Job.WorkingTime")));
-    if (v && v->value.get_if<double>() != nullptr) {
-      out.emplace_back(proc.name, *v->value.get_if<double>() / 1000.0);
-    }
-  }
-  return out;
-}
-
-json utilisation_json(const std::vector<std::pair<std::string, double>>& working, double seconds) {
+json utilisation_json(const std::vector<fy::WorkingTime>& working, double seconds) {
   json u = json::object();
-  for (const auto& [machine, s] : working) {
-    u[machine] = seconds > 0 ? s / seconds : 0.0;
+  for (const auto& w : working) {
+    u[w.machine] = seconds > 0 ? w.seconds / seconds : 0.0;
   }
   return u;
 }
 
-json summary_json(const Counts& c, std::size_t orders, double seconds) {
+json summary_json(const fy::OrderCounts& c, std::size_t orders, double seconds) {
   return {{"event", "summary"},
           {"orders", orders},
           {"done", c.done},
@@ -249,7 +145,7 @@ int run_demo(const DemoOptions& o) {
     return stop_requested() ? kExitOk : kExitFailure;
   }
   std::cerr << "demo: the line is up; orders go in\n";
-  auto opened = OrderServiceView::open(*p);
+  auto opened = fy::LineView::open(*p);
   if (!opened) {
     std::cerr << "demo: " << opened.error().message << "\n";
     return kExitFailure;
@@ -260,8 +156,8 @@ int run_demo(const DemoOptions& o) {
       o.duration_s > 0
           ? std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.duration_s))
           : Clock::duration::max();
-  Counts last{};
-  Counts now{};
+  fy::OrderCounts last{};
+  fy::OrderCounts now{};
   auto next_read = started;
   bool finished = false;
   supervisor.run([&] { return stop_requested() || finished || clock.now() - started >= limit; },
@@ -270,7 +166,7 @@ int run_demo(const DemoOptions& o) {
                      return;
                    }
                    next_read = clock.now() + std::chrono::seconds{1};
-                   auto c = view.read();
+                   auto c = view.orders();
                    if (!c) {
                      return;  // the service restarting: asked again in a second
                    }
@@ -294,7 +190,7 @@ int run_demo(const DemoOptions& o) {
                    }
                  });
   const double seconds = std::chrono::duration<double>(clock.now() - started).count();
-  const auto working = working_times(*p);
+  const auto working = view.working_times();
   supervisor.stop();
   json s = summary_json(now, o.orders, seconds);
   s["utilisation"] = utilisation_json(working, seconds);

@@ -4,14 +4,18 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "line_rig.hpp"
+#include "sf/factory/line_view.hpp"
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "sf/testing/temp_dir.hpp"
 
 namespace sf::factory {
 namespace {
@@ -118,6 +122,37 @@ TEST_F(OrderServiceTest, AnOperatorsOrderIsAcceptedAndBadOnesAreRefused) {
   }
   EXPECT_EQ(counter("InWork") + counter("Queued"), 1U);
   EXPECT_EQ(counter("Done"), 0U);
+}
+
+TEST_F(OrderServiceTest, TheLineViewReadsItsCountersAsTheDemoShowsThem) {
+  start("operator");
+  testing::TempDir dir;
+  auto plan = plan_line(line_rig::options(dir.path()));
+  ASSERT_TRUE(plan) << plan.error().describe();
+  for (auto& p : plan->processes) {
+    if (p.role == LineRole::orders) {
+      p.opcua_port = static_cast<std::uint16_t>(std::stoi(process->opcua_endpoint().substr(
+          process->opcua_endpoint().rfind(':') + 1)));  // this test's order service
+    }
+  }
+  auto view = LineView::open(*plan);
+  ASSERT_TRUE(view) << view.error().describe();
+  ASSERT_TRUE(submit("alice-1", "small-box", {"gummy:4"}));
+  OrderCounts counts;
+  for (int i = 0; i < 100 && counts.in_work + counts.queued == 0; ++i) {
+    auto read = view->orders();
+    ASSERT_TRUE(read) << read.error().describe();
+    counts = *read;
+    std::this_thread::sleep_for(20ms);
+  }
+  EXPECT_EQ(counts.in_work + counts.queued, 1U);
+  EXPECT_EQ(counts.done, 0U);
+  // No controller of the plan runs here: no working times, and no hang.
+  EXPECT_TRUE(view->working_times().empty());
+  plan->processes.erase(std::remove_if(plan->processes.begin(), plan->processes.end(),
+                                       [](const LineProcess& p) { return p.role == LineRole::orders; }),
+                        plan->processes.end());
+  EXPECT_FALSE(LineView::open(*plan));
 }
 
 TEST_F(OrderServiceTest, AViewerMayNotOrder) {

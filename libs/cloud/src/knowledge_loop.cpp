@@ -84,6 +84,8 @@ struct KnowledgeLoop::Impl {
   kb::TermId type() { return dict.iri(vocab::kRdfType); }
 
   void order_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add);
+  void line_facts(const std::string& order, const std::string& candy, int quantity,
+                  std::vector<kb::Triple>& add);
   void box_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add);
   Status inspection(const LiveUpdate& u);
   Status fault(std::string_view machine, const LiveUpdate& u);
@@ -98,13 +100,8 @@ void KnowledgeLoop::Impl::order_facts(const line::InspectionRecord& r, historian
   add.push_back({o, type(), sf("Order")});
   add.push_back({o, sf("orderCode"), dict.literal(r.order)});
   add.push_back({o, sf("boxType"), sf(line::iri_name(r.box_type))});
-  int k = 0;
   for (const auto& [candy, n] : r.ordered) {
-    const kb::TermId l = p(fmt::format("Order_{}_Line{}", iri_part(r.order), ++k));
-    add.push_back({l, type(), sf("OrderLine")});
-    add.push_back({l, sf("forOrder"), o});
-    add.push_back({l, sf("candyType"), sf(line::iri_name(candy))});
-    add.push_back({l, sf("quantity"), integer(n)});
+    line_facts(r.order, candy, n, add);
   }
   if (due_after.count() > 0) {
     // Accepted lead_s before this inspection, due due_after after that.
@@ -112,6 +109,15 @@ void KnowledgeLoop::Impl::order_facts(const line::InspectionRecord& r, historian
         at - std::chrono::duration_cast<historian::Micros>(std::chrono::duration<double>(r.lead_s));
     add.push_back({o, sf("dueAt"), dict.literal(xsd_date_time(accepted + due_after), vocab::kXsdDateTime)});
   }
+}
+
+void KnowledgeLoop::Impl::line_facts(const std::string& order, const std::string& candy, int quantity,
+                                     std::vector<kb::Triple>& add) {
+  const kb::TermId l = p(fmt::format("Order_{}_{}", iri_part(order), line::iri_name(candy)));
+  add.push_back({l, type(), sf("OrderLine")});
+  add.push_back({l, sf("forOrder"), p("Order_" + iri_part(order))});
+  add.push_back({l, sf("candyType"), sf(line::iri_name(candy))});
+  add.push_back({l, sf("quantity"), integer(quantity)});
 }
 
 void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::Timestamp at,
@@ -126,6 +132,14 @@ void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::
   std::map<std::string, int> content = r.counted;
   for (const auto& [candy, n] : r.ordered) {
     content.emplace(candy, 0);
+  }
+  // A type the order does not name is one it asks none of: its line says 0, so contentMismatch
+  // reports it ("chocolate: ordered 0, the box holds 2") without a rule of negation, whose
+  // result would hang on the order in which a forward engine meets the facts.
+  for (const auto& [candy, n] : r.counted) {
+    if (!r.ordered.contains(candy)) {
+      line_facts(r.order, candy, 0, add);
+    }
   }
   for (const auto& [candy, n] : content) {
     const kb::TermId c = p(fmt::format("{}_{}", name, line::iri_name(candy)));

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sf/cloud/knowledge_loop.hpp"
+#include "sf/core/config.hpp"
 #include "sf/plant/plant.hpp"
 #include "sf/simulation/simulation.hpp"
 
@@ -44,6 +46,45 @@ inline void expect_made(Simulation& sim, const factory::Order& order) {
   ASSERT_TRUE(r.inspection);
   EXPECT_EQ(r.inspection->counts, order.counts());
   EXPECT_EQ(placed(sim.plant()).at(r.boxes[0]), order.counts());
+}
+
+// The cloud's check of the run: every inspection as the order service publishes it
+// (OrderService.LastInspection) through the knowledge loop over the repository's ontology and
+// rules (SF_SOURCE_DIR); the alarms it raised.
+inline std::vector<cloud::Alarm> knowledge_alarms(const Simulation& sim) {
+  const char* root = std::getenv("SF_SOURCE_DIR");
+  const std::string dir = root != nullptr ? root : ".";
+  auto ontology = config::read_text(dir + "/ontology/candy-factory.ttl");
+  auto rules = config::read_text(dir + "/rules/candy-factory.rules");
+  EXPECT_TRUE(ontology && rules) << "SF_SOURCE_DIR names the repository";
+  if (!ontology || !rules) {
+    return {};
+  }
+  std::vector<cloud::Alarm> alarms;
+  auto loop =
+      cloud::KnowledgeLoop::create(sim.plant().layout(), {*ontology, *rules, "candy-factory.rules", {}},
+                                   [&](const cloud::Alarm& a) { alarms.push_back(a); });
+  EXPECT_TRUE(loop) << loop.error().describe();
+  if (!loop) {
+    return {};
+  }
+  historian::SeriesInfo series{"orders",
+                               "ns=1;s=OrderService.LastInspection",
+                               "/Objects/OrderService/LastInspection",
+                               historian::DataType::string,
+                               {}};
+  for (const auto& e : sim.order_events()) {
+    if (e.what != "inspected") {
+      continue;
+    }
+    cloud::LiveUpdate u{&series, {}, false};
+    u.sample.source_time =
+        historian::Timestamp{} + std::chrono::duration_cast<historian::Micros>(e.at.time_since_epoch());
+    u.sample.value = line::format_inspection(factory::inspection_record(e, sim.host().records().at(e.order)));
+    (*loop)->on_value(u);
+  }
+  EXPECT_EQ((*loop)->status().rejected, 0U) << (*loop)->status().last_error;
+  return alarms;
 }
 
 inline void dump_on_failure(const Simulation& sim) {

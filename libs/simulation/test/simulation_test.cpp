@@ -22,6 +22,7 @@ namespace {
 using namespace std::chrono_literals;
 using testing::dump_on_failure;
 using testing::expect_made;
+using testing::knowledge_alarms;
 using testing::make;
 using testing::placed;
 
@@ -142,6 +143,15 @@ TEST(SimulationFaults, ABoxWithTheWrongCandyIsRejectedAndTheOrderMadeAgain) {
     rejects += e.order == "a" && e.what == "rejected" ? 1U : 0U;
   }
   EXPECT_EQ(rejects, 1U);
+  // The cloud's rules find the same, independently of the order service's own comparison, for
+  // the first box only: the toffee missing, the chocolate not ordered.
+  std::set<std::string> alarms;
+  for (const auto& a : knowledge_alarms(*sim)) {
+    EXPECT_TRUE(a.entity.ends_with(fmt::format("Box_a_{}", r.boxes[0]))) << a.entity;
+    alarms.insert(a.rule + ": " + a.message);
+  }
+  EXPECT_EQ(alarms, (std::set<std::string>{"contentMismatch: toffee: ordered 2, the box holds 0",
+                                           "contentMismatch: chocolate: ordered 0, the box holds 2"}));
   dump_on_failure(*sim);
 }
 

@@ -133,6 +133,20 @@ void OrderHost::settle(const OrderAgent& agent) {
   r.finished = context_.clock->now();
 }
 
+line::InspectionRecord inspection_record(const OrderEvent& inspected, const OrderRecord& record) {
+  line::InspectionRecord r;
+  r.order = inspected.order;
+  r.box_type = record.order.box_type;
+  r.ordered = record.order.counts();
+  r.lead_s = std::chrono::duration<double>(inspected.at - record.accepted).count();
+  if (inspected.inspection) {
+    r.box = inspected.inspection->box;
+    r.counted = inspected.inspection->counts;
+    r.weight_g = inspected.inspection->weight_g;
+  }
+  return r;
+}
+
 std::chrono::nanoseconds OrderHost::lead_time(double q) const {
   std::vector<std::chrono::nanoseconds> leads;
   for (const auto& [id, r] : records_) {

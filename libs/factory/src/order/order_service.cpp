@@ -38,7 +38,8 @@ Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
           // Its own variable: an inspection and the order's end come in one turn of the loop,
           // faster than a client samples.
           if (e.what == "inspected" && e.inspection) {
-            self->status_.last_inspection = line::format_inspection(self->inspection_record(e));
+            self->status_.last_inspection =
+                line::format_inspection(inspection_record(e, self->host_->records().at(e.order)));
           }
         }
         if (self->on_event_) {
@@ -49,21 +50,6 @@ Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
 }
 
 OrderServiceAgent::~OrderServiceAgent() = default;
-
-line::InspectionRecord OrderServiceAgent::inspection_record(const OrderEvent& e) const {
-  line::InspectionRecord r;
-  r.order = e.order;
-  r.box = e.inspection->box;
-  r.counted = e.inspection->counts;
-  r.weight_g = e.inspection->weight_g;
-  // The host keeps the record of every order it accepted, this one's among them.
-  if (auto it = host_->records().find(e.order); it != host_->records().end()) {
-    r.box_type = it->second.order.box_type;
-    r.ordered = it->second.order.counts();
-    r.lead_s = std::chrono::duration<double>(e.at - it->second.accepted).count();
-  }
-  return r;
-}
 
 Status OrderServiceAgent::submit(Order order) {
   if (auto valid = validate(order, layout_->catalog); !valid) {

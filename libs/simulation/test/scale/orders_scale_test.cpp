@@ -14,6 +14,7 @@ namespace {
 
 using namespace std::chrono_literals;
 using testing::dump_on_failure;
+using testing::knowledge_alarms;
 using testing::make;
 using testing::most_boxes_at_a_station;
 
@@ -58,6 +59,10 @@ TEST(Simulation, TwoHundredSeededOrdersAreEachMadeOnceWithTheirContent) {
   EXPECT_EQ(counters.uploaded, counters.downloaded);
   EXPECT_EQ(counters.boxes_lost, 0U);
   EXPECT_EQ(counters.dropped, 0U);
+  // The cloud's rules over every inspection as the order service published it: no violation.
+  const auto alarms = knowledge_alarms(*sim);
+  EXPECT_TRUE(alarms.empty()) << alarms.size() << " alarms, the first: " << alarms.front().entity << " "
+                              << alarms.front().message;
   dump_on_failure(*sim);
 }
 

@@ -12,7 +12,8 @@
 //        shows them: sf:Order, sf:OrderLine (sf:forOrder, sf:candyType, sf:quantity),
 //        sf:CandyBox (sf:forOrder, sf:candyCount, sf:hasContent, sf:completedAt),
 //        sf:BoxContent (sf:candyType, sf:count; every candy type ordered or found, zero
-//        included), and sf:dueAt of the order when a due time is configured.
+//        included; a type found but not ordered gets an order line of quantity 0), and sf:dueAt
+//        of the order when a due time is configured.
 // Any other series is left alone. A value that cannot be read (a malformed inspection) is
 // counted and reported in status(), never fatal.
 #pragma once

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "sf/factory/order_agent.hpp"
+#include "sf/line/inspection.hpp"
 
 namespace sf::factory {
 
@@ -87,6 +88,11 @@ class OrderHost {
   std::uint64_t remade_ = 0;
   std::array<std::size_t, 4> counts_{};  // by OrderState
 };
+
+// The inspection of an "inspected" event of `record`'s order as the order service publishes it
+// (OrderService.LastInspection, sf/line/inspection.hpp): the order, its box, what it asks for,
+// what the downloader counted and the seconds since the order was accepted.
+line::InspectionRecord inspection_record(const OrderEvent& inspected, const OrderRecord& record);
 
 // The most boxes the layout's belts can hold without a circle of boxes
 // waiting for one another: one less than the belts of its shortest cycle

@@ -27,7 +27,6 @@
 #include "sf/dds/executor.hpp"
 #include "sf/factory/controller_config.hpp"
 #include "sf/factory/order_host.hpp"
-#include "sf/line/inspection.hpp"
 #include "sf/negotiation/agents.hpp"
 #include "sf/negotiation/dds_transport.hpp"
 
@@ -75,8 +74,6 @@ class OrderServiceAgent final : public negotiation::Agent {
  private:
   OrderServiceAgent(const line::Layout& layout, const Clock& clock) : layout_(&layout), clock_(&clock) {}
   void publish();
-  // OrderService.LastInspection of an "inspected" event (sf/line/inspection.hpp).
-  [[nodiscard]] line::InspectionRecord inspection_record(const OrderEvent& e) const;
 
   const line::Layout* layout_;
   const Clock* clock_;

@@ -23,6 +23,16 @@ TEST(Text, LowerChangesAsciiLettersOnly) {
   EXPECT_EQ(lower("AB-12_Z\xc3\x84"), "ab-12_z\xc3\x84");  // UTF-8 bytes stay as they are
 }
 
+TEST(Text, HexValueOfDigitsOnly) {
+  EXPECT_EQ(hex_value('0'), 0);
+  EXPECT_EQ(hex_value('9'), 9);
+  EXPECT_EQ(hex_value('a'), 10);
+  EXPECT_EQ(hex_value('F'), 15);
+  EXPECT_EQ(hex_value('g'), -1);
+  EXPECT_EQ(hex_value('/'), -1);
+  EXPECT_EQ(hex_value(':'), -1);
+}
+
 TEST(Text, TrimTakesWhiteSpaceFromBothEnds) {
   EXPECT_EQ(trim(" \tx y\t "), "x y");
   EXPECT_EQ(trim("\r\n<a/>\n"), "<a/>");

@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "sf/core/text.hpp"
+
 namespace sf::opcua {
 
 std::string_view to_string(BuiltinType type) {
@@ -34,19 +36,6 @@ ByteString ByteString::from_text(std::string_view text) {
 // ---- Guid -------------------------------------------------------------------------------------
 
 namespace {
-
-int hex_value(char c) {
-  if (c >= '0' && c <= '9') {
-    return c - '0';
-  }
-  if (c >= 'a' && c <= 'f') {
-    return c - 'a' + 10;
-  }
-  if (c >= 'A' && c <= 'F') {
-    return c - 'A' + 10;
-  }
-  return -1;
-}
 
 // Parses `digits` hex digits of text starting at pos into value.
 bool parse_hex(std::string_view text, std::size_t pos, std::size_t digits, std::uint64_t& value) {

@@ -18,4 +18,7 @@ std::string lower(std::string_view text);
 // `text` without leading and trailing white space (space, tab, CR, LF, VT, FF).
 std::string_view trim(std::string_view text);
 
+// The value of a hexadecimal digit (0-9, a-f, A-F), -1 for any other character.
+int hex_value(char c);
+
 }  // namespace sf

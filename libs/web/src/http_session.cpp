@@ -1,0 +1,122 @@
+#include "http_session.hpp"
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <utility>
+
+#include "live_session.hpp"
+#include "target.hpp"
+
+namespace sf::web {
+namespace net = boost::asio;
+
+namespace {
+
+bool is_live_upgrade(const ServerConfig& config, const BeastRequest& request) {
+  if (config.live_path.empty() || !beast::websocket::is_upgrade(request)) {
+    return false;
+  }
+  auto target = parse_target(std::string_view(request.target().data(), request.target().size()));
+  return target && target->path == config.live_path;
+}
+
+// How long and how much of a refused request is still read after the answer, so that closing
+// with unread bytes does not reset the connection before the peer reads the answer
+// (RFC 9112 §9.6, tear-down).
+constexpr auto kLingerTime = std::chrono::seconds(2);
+constexpr std::size_t kLingerBytes = 1024 * 1024;
+
+}  // namespace
+
+HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<ServerState> state,
+                         std::shared_ptr<ConnectionSlot> slot)
+    : stream_(std::move(socket)), state_(std::move(state)), slot_(std::move(slot)) {}
+
+void HttpSession::run() {
+  // Start on the connection's strand: its handlers never run concurrently.
+  net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+    if (!self->slot_) {
+      self->write(to_beast(error_response(503, "too many connections"), 11, false, false));
+      return;
+    }
+    self->read_next();
+  });
+}
+
+void HttpSession::read_next() {
+  parser_.emplace();
+  configure_parser(*parser_, state_->config);
+  stream_.expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
+  http::async_read(
+      stream_, buffer_, *parser_,
+      [self = shared_from_this()](const beast::error_code& error, std::size_t) { self->on_read(error); });
+}
+
+void HttpSession::on_read(const beast::error_code& error) {
+  if (error == http::error::end_of_stream || error == beast::error::timeout ||
+      error == net::error::operation_aborted || error == net::error::connection_reset ||
+      error == net::error::eof) {
+    close();
+    return;
+  }
+  if (error) {
+    // Nothing more is read from a connection whose framing is lost (RFC 9112 §9.6).
+    write(to_beast(parse_error_response(error), 11, false, false));
+    return;
+  }
+  if (is_live_upgrade(state_->config, parser_->get())) {
+    auto live =
+        std::make_shared<LiveSession>(std::move(stream_), state_->hub, state_->config, std::move(slot_));
+    live->run(parser_->release());
+    return;
+  }
+  write(answer(Site{state_->config, state_->router}, parser_->release()));
+}
+
+void HttpSession::write(BeastResponse response) {
+  ++state_->requests;
+  response_ = std::make_shared<BeastResponse>(std::move(response));
+  stream_.expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
+  http::async_write(stream_, *response_,
+                    [self = shared_from_this()](const beast::error_code& error, std::size_t) {
+                      if (error) {
+                        self->close();
+                        return;
+                      }
+                      if (!self->response_->keep_alive()) {
+                        self->linger();
+                        return;
+                      }
+                      self->read_next();
+                    });
+}
+
+void HttpSession::linger() {
+  beast::error_code ignored;
+  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+  stream_.expires_after(kLingerTime);
+  drained_ = 0;
+  drain();
+}
+
+void HttpSession::drain() {
+  buffer_.consume(buffer_.size());
+  stream_.async_read_some(buffer_.prepare(16 * 1024),
+                          [self = shared_from_this()](const beast::error_code& error, std::size_t n) {
+                            self->drained_ += n;
+                            if (error || self->drained_ > kLingerBytes) {
+                              self->close();
+                              return;
+                            }
+                            self->drain();
+                          });
+}
+
+void HttpSession::close() {
+  beast::error_code ignored;
+  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+  stream_.close();
+}
+
+}  // namespace sf::web

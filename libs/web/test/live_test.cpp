@@ -1,0 +1,186 @@
+// The live endpoint over real WebSocket connections: subscribe and publish, coalescing for a
+// client that does not read, and bad frames and messages.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "sf/web/server.hpp"
+#include "test_client.hpp"
+
+namespace sf::web {
+namespace {
+
+using testing::LiveClient;
+
+class LiveTest : public ::testing::Test {
+ protected:
+  void SetUp() override { start({}); }
+  void start(ServerConfig config) {
+    server_ = std::make_unique<HttpServer>(std::move(config), Router{});
+    auto port = server_->start();
+    ASSERT_TRUE(port) << port.error().describe();
+    port_ = *port;
+  }
+  // Waits until the server counts the client (the handshake completes before it is added).
+  void wait_for_clients(std::size_t count) {
+    testing::wait_until([&] { return server_->stats().live_clients.size() == count; });
+  }
+  std::unique_ptr<HttpServer> server_;
+  std::uint16_t port_ = 0;
+};
+
+TEST_F(LiveTest, SubscribedClientsReceiveTheirTopicsOnly) {
+  LiveClient a(port_);
+  LiveClient b(port_);
+  a.send(R"({"subscribe": ["machine/M1", "alarms"]})");
+  EXPECT_EQ(a.receive(), (nlohmann::json{{"subscribed", {"alarms", "machine/M1"}}}));
+  b.send(R"({"subscribe": ["alarms"]})");
+  EXPECT_EQ(b.receive(), (nlohmann::json{{"subscribed", {"alarms"}}}));
+
+  server_->publish("machine/M2", {{"state", "Held"}});
+  server_->publish("machine/M1", {{"state", "Execute"}});
+  server_->publish("alarms", nlohmann::json::array({"over temperature"}));
+  EXPECT_EQ(a.receive(), (nlohmann::json{{"topic", "machine/M1"}, {"value", {{"state", "Execute"}}}}));
+  EXPECT_EQ(a.receive().at("topic"), "alarms");
+  EXPECT_EQ(b.receive(), (nlohmann::json{{"topic", "alarms"}, {"value", {"over temperature"}}}));
+
+  b.send(R"({"unsubscribe": ["alarms"]})");
+  EXPECT_EQ(b.receive(), (nlohmann::json{{"subscribed", nlohmann::json::array()}}));
+  server_->publish("alarms", 1);
+  b.send(R"({"subscribe": ["x"]})");  // the next message b gets is this reply, not the alarm
+  EXPECT_EQ(b.receive(), (nlohmann::json{{"subscribed", {"x"}}}));
+  const auto stats = server_->stats();
+  ASSERT_EQ(stats.live_clients.size(), 2U);
+  EXPECT_EQ(stats.live_clients[0].topics, 2U);
+}
+
+TEST_F(LiveTest, SlowClientGetsTheLatestValueAndDropsAreCounted) {
+  LiveClient slow(port_, 4096);
+  slow.send(R"({"subscribe": ["series/axis"]})");
+  ASSERT_EQ(slow.receive().at("subscribed").size(), 1U);
+  // The client reads nothing while values are published faster than the socket drains.
+  constexpr int kValues = 20000;
+  const std::string padding(1024, 'p');
+  for (int i = 0; i < kValues; ++i) {
+    server_->publish("series/axis", {{"seq", i}, {"padding", padding}});
+  }
+  const auto during = server_->stats().live_clients.at(0);
+  EXPECT_GT(during.dropped, 0U);
+  EXPECT_LE(during.pending, 1U);  // one value per topic waits, never more
+
+  int received = 0;
+  int last = -1;
+  while (last != kValues - 1) {
+    const auto message = slow.receive();
+    const int seq = message.at("value").at("seq");
+    EXPECT_GT(seq, last);  // in order, never an older value after a newer one
+    last = seq;
+    ++received;
+  }
+  const auto after = server_->stats().live_clients.at(0);
+  EXPECT_LT(received, kValues);
+  EXPECT_EQ(after.dropped + static_cast<std::uint64_t>(received), static_cast<std::uint64_t>(kValues));
+}
+
+TEST_F(LiveTest, BadMessagesGetAnErrorAndTheClientStays) {
+  LiveClient client(port_);
+  for (const char* bad :
+       {"not json", "[1,2]", R"({"subscribe": "alarms"})", R"({"subscribe": [1]})", R"({"subscribe": [""]})",
+        R"({"hello": 1})", R"({"subscribe": [], "unsubscribe": []})"}) {
+    client.send(bad);
+    const auto reply = client.receive();
+    EXPECT_TRUE(reply.contains("error")) << bad << " → " << reply;
+  }
+  client.send(R"({"subscribe": ["alarms"]})");
+  EXPECT_EQ(client.receive().at("subscribed"), nlohmann::json::array({"alarms"}));
+}
+
+TEST_F(LiveTest, TopicsPerClientAreBounded) {
+  ServerConfig config;
+  config.live_topic_limit = 2;
+  start(config);
+  LiveClient client(port_);
+  client.send(R"({"subscribe": ["a", "b", "c"]})");
+  EXPECT_EQ(client.receive().at("limit"), 2);
+  EXPECT_EQ(client.receive().at("subscribed"), nlohmann::json::array({"a", "b"}));
+}
+
+TEST_F(LiveTest, BinaryMessageClosesWith1003) {
+  LiveClient client(port_);
+  client.send_binary("\x01\x02");
+  EXPECT_EQ(client.close_code(), 1003);  // RFC 6455 §7.4.1
+}
+
+TEST_F(LiveTest, OversizedMessageClosesWith1009) {
+  ServerConfig config;
+  config.live_message_limit = 1024;
+  start(config);
+  LiveClient client(port_);
+  client.send(R"({"subscribe": [")" + std::string(1500, 'x') + R"("]})");
+  EXPECT_EQ(client.close_code(), 1009);  // RFC 6455 §7.4.1
+}
+
+// Beast 1.74's server tear-down reads at most 2 KiB of what the peer still sends before it
+// closes (websocket/impl/teardown.hpp), so the peer of a much larger message may see a reset
+// instead of the 1009 frame: the connection ends either way and the server goes on.
+TEST_F(LiveTest, MuchLargerMessageEndsTheConnectionAndTheServerSurvives) {
+  ServerConfig config;
+  config.live_message_limit = 1024;
+  start(config);
+  {
+    LiveClient client(port_);
+    try {
+      client.send(std::string(256 * 1024, 'x'));
+      const int code = client.close_code();
+      EXPECT_TRUE(code == 1009 || code == 0) << code;
+    } catch (const boost::system::system_error&) {
+      // reset while sending: the connection ended
+    }
+  }
+  wait_for_clients(0);
+  LiveClient fine(port_);
+  fine.send(R"({"subscribe": ["a"]})");
+  EXPECT_EQ(fine.receive().at("subscribed"), nlohmann::json::array({"a"}));
+}
+
+// A frame no client may send (RFC 6455 §5.1: client frames are masked) on a raw connection.
+TEST_F(LiveTest, UnmaskedFrameClosesWith1002AndTheServerSurvives) {
+  boost::asio::io_context context;
+  auto socket = testing::connect(context, port_);
+  const std::string handshake =
+      "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+  boost::asio::write(socket, boost::asio::buffer(handshake));
+  boost::beast::flat_buffer buffer;
+  boost::beast::http::response<boost::beast::http::empty_body> upgrade;
+  boost::beast::http::read(socket, buffer, upgrade);
+  ASSERT_EQ(upgrade.result_int(), 101U);
+  const std::string unmasked = "\x81\x02hi";  // FIN + text, length 2, mask bit clear
+  boost::asio::write(socket, boost::asio::buffer(unmasked));
+  std::string frame = boost::beast::buffers_to_string(buffer.data());
+  boost::beast::error_code error;
+  char chunk[64];
+  while (frame.size() < 4 && !error) {
+    frame.append(chunk, socket.read_some(boost::asio::buffer(chunk), error));
+  }
+  ASSERT_GE(frame.size(), 4U);
+  EXPECT_EQ(static_cast<unsigned char>(frame[0]), 0x88U);  // FIN + close
+  EXPECT_EQ((static_cast<unsigned char>(frame[2]) << 8) | static_cast<unsigned char>(frame[3]), 1002);
+
+  LiveClient fine(port_);
+  fine.send(R"({"subscribe": ["a"]})");
+  EXPECT_EQ(fine.receive().at("subscribed"), nlohmann::json::array({"a"}));
+}
+
+TEST_F(LiveTest, ClosedClientsLeaveTheStats) {
+  {
+    LiveClient client(port_);
+    wait_for_clients(1);
+  }
+  wait_for_clients(0);
+  server_->publish("a", 1);  // no client: nothing to do, nothing fails
+}
+
+}  // namespace
+}  // namespace sf::web

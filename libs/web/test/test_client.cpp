@@ -1,0 +1,99 @@
+#include "test_client.hpp"
+
+#include <sys/socket.h>
+#include <sys/time.h>
+
+namespace sf::web::testing {
+namespace net = boost::asio;
+namespace beast = boost::beast;
+using tcp = net::ip::tcp;
+
+tcp::socket connect(net::io_context& context, std::uint16_t port, int seconds, int receive_buffer) {
+  tcp::socket socket(context);
+  socket.open(tcp::v4());
+  if (receive_buffer > 0) {
+    socket.set_option(net::socket_base::receive_buffer_size(receive_buffer));
+  }
+  timeval timeout{seconds, 0};
+  ::setsockopt(socket.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  socket.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+  return socket;
+}
+
+HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target, std::string body,
+                          std::string_view content_type) {
+  net::io_context context;
+  auto socket = connect(context, port);
+  http::request<http::string_body> request{method, beast::string_view(target.data(), target.size()), 11};
+  request.set(http::field::host, "127.0.0.1");
+  if (!body.empty()) {
+    request.set(http::field::content_type, beast::string_view(content_type.data(), content_type.size()));
+    request.body() = std::move(body);
+  }
+  request.prepare_payload();
+  beast::error_code ignored;
+  http::write(socket, request, ignored);  // a refused body may be cut short; the answer is read
+  beast::flat_buffer buffer;
+  http::response_parser<http::string_body> parser;
+  parser.body_limit(64 * 1024 * 1024);
+  parser.skip(method == http::verb::head);
+  http::read(socket, buffer, parser);
+  return parser.release();
+}
+
+std::string raw_exchange(std::uint16_t port, std::string_view bytes) {
+  net::io_context context;
+  auto socket = connect(context, port);
+  beast::error_code error;
+  net::write(socket, net::buffer(bytes.data(), bytes.size()), error);
+  socket.shutdown(tcp::socket::shutdown_send, error);
+  std::string out;
+  char chunk[4096];
+  while (true) {
+    const auto n = socket.read_some(net::buffer(chunk), error);
+    out.append(chunk, n);
+    if (error) {
+      return out;
+    }
+  }
+}
+
+int raw_status(std::string_view response) {
+  if (response.size() < 12 || response.substr(0, 9) != "HTTP/1.1 ") {
+    return 0;
+  }
+  return std::stoi(std::string(response.substr(9, 3)));
+}
+
+LiveClient::LiveClient(std::uint16_t port, int receive_buffer)
+    : ws_(connect(context_, port, 10, receive_buffer)) {
+  ws_.handshake("127.0.0.1", "/api/live");
+}
+
+void LiveClient::send(std::string_view text) {
+  ws_.text(true);
+  ws_.write(net::buffer(text.data(), text.size()));
+}
+
+void LiveClient::send_binary(std::string_view bytes) {
+  ws_.binary(true);
+  ws_.write(net::buffer(bytes.data(), bytes.size()));
+}
+
+nlohmann::json LiveClient::receive() {
+  beast::flat_buffer buffer;
+  ws_.read(buffer);
+  return nlohmann::json::parse(beast::buffers_to_string(buffer.data()));
+}
+
+int LiveClient::close_code() {
+  beast::flat_buffer buffer;
+  beast::error_code error;
+  while (!error) {
+    buffer.consume(buffer.size());
+    ws_.read(buffer, error);
+  }
+  return error == beast::websocket::error::closed ? static_cast<int>(ws_.reason().code) : 0;
+}
+
+}  // namespace sf::web::testing

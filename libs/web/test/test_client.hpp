@@ -1,0 +1,62 @@
+// Clients for the server tests: Boost.Beast's HTTP and WebSocket clients over loopback, and a
+// raw socket for bytes no well-behaved client sends. Reads time out after a few seconds so a
+// server that does not answer fails the test instead of hanging it.
+#pragma once
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <thread>
+
+namespace sf::web::testing {
+
+namespace http = boost::beast::http;
+using HttpResponse = http::response<http::string_body>;
+
+// Polls until the server reaches a state the test waits for (a connection accepted or gone);
+// the test's own timeout ends a wait that never ends.
+template <typename Predicate>
+void wait_until(Predicate done) {
+  while (!done()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+// One request on a fresh connection.
+HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target,
+                          std::string body = {}, std::string_view content_type = "application/json");
+
+// Writes bytes on a fresh connection and returns everything read until the server closes or
+// a read times out.
+std::string raw_exchange(std::uint16_t port, std::string_view bytes);
+
+// The status code of a raw HTTP response ("HTTP/1.1 400 ..." → 400), 0 if none.
+int raw_status(std::string_view response);
+
+// A connected socket whose blocking reads time out after `seconds`.
+boost::asio::ip::tcp::socket connect(boost::asio::io_context& context, std::uint16_t port, int seconds = 5,
+                                     int receive_buffer = 0);
+
+class LiveClient {
+ public:
+  // receive_buffer > 0: a small SO_RCVBUF, for a client that reads slowly.
+  explicit LiveClient(std::uint16_t port, int receive_buffer = 0);
+  void send(std::string_view text);
+  void send_binary(std::string_view bytes);
+  // The next message as JSON; throws on a closed connection or a timeout.
+  nlohmann::json receive();
+  // Reads until the connection closes; the close code received (0 if none).
+  int close_code();
+
+ private:
+  boost::asio::io_context context_;
+  boost::beast::websocket::stream<boost::asio::ip::tcp::socket> ws_;
+};
+
+}  // namespace sf::web::testing

@@ -3,7 +3,7 @@
 #include <boost/asio/post.hpp>
 #include <utility>
 
-#include "sf/core/log.hpp"
+#include "live_protocol.hpp"
 
 namespace sf::web {
 namespace net = boost::asio;
@@ -19,21 +19,6 @@ constexpr std::size_t kMaxReplies = 64;
 std::shared_ptr<const std::string> dump(const nlohmann::json& message) {
   return std::make_shared<const std::string>(
       message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
-}
-
-// The topics of a {"subscribe": [...]} or {"unsubscribe": [...]} member, or an error text.
-Result<std::vector<std::string>> topic_list(const nlohmann::json& member) {
-  if (!member.is_array()) {
-    return Error(Errc::malformed, "topics must be an array of strings");
-  }
-  std::vector<std::string> topics;
-  for (const auto& topic : member) {
-    if (!topic.is_string() || topic.get_ref<const std::string&>().empty()) {
-      return Error(Errc::malformed, "topics must be non-empty strings");
-    }
-    topics.push_back(topic.get<std::string>());
-  }
-  return topics;
 }
 
 }  // namespace
@@ -88,26 +73,17 @@ void LiveSession::on_read(const beast::error_code& error) {
 }
 
 void LiveSession::handle_text(const std::string& text) {
-  const auto message = nlohmann::json::parse(text, nullptr, false);
-  if (message.is_discarded() || !message.is_object()) {
-    reply({{"error", "a message must be a JSON object"}});
+  auto request = parse_live_request(text);
+  if (!request) {
+    reply({{"error", request.error().message}});
     return;
   }
-  const bool subscribe = message.contains("subscribe");
-  if (subscribe == message.contains("unsubscribe")) {
-    reply({{"error", "a message has one member: \"subscribe\" or \"unsubscribe\""}});
-    return;
-  }
-  auto topics = topic_list(message.at(subscribe ? "subscribe" : "unsubscribe"));
-  if (!topics) {
-    reply({{"error", topics.error().message}});
-    return;
-  }
+  const bool subscribe = request->kind == LiveRequest::Kind::subscribe;
   nlohmann::json current = nlohmann::json::array();
   bool over_limit = false;
   {
     std::lock_guard lock(mutex_);
-    for (const auto& topic : *topics) {
+    for (const auto& topic : request->topics) {
       if (!subscribe) {
         topics_.erase(topic);
         pending_.erase(topic);

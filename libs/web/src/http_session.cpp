@@ -48,6 +48,36 @@ void HttpSession::read_next() {
   parser_.emplace();
   configure_parser(*parser_, state_->config);
   stream_.expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
+  http::async_read_header(
+      stream_, buffer_, *parser_,
+      [self = shared_from_this()](const beast::error_code& error, std::size_t) { self->on_header(error); });
+}
+
+void HttpSession::on_header(const beast::error_code& error) {
+  if (error || parser_->is_done()) {
+    on_read(error);
+    return;
+  }
+  // RFC 9110 §10.1.1: a client that expects 100-continue waits for it before the body. The
+  // header passed the limits (a declared body over body_limit has already failed).
+  const auto expect = parser_->get()[http::field::expect];
+  if (beast::iequals(expect, "100-continue")) {
+    auto interim = std::make_shared<http::response<http::empty_body>>(http::status::continue_, 11);
+    http::async_write(
+        stream_, *interim,
+        [self = shared_from_this(), interim](const beast::error_code& write_error, std::size_t) {
+          if (write_error) {
+            self->close();
+            return;
+          }
+          self->read_body();
+        });
+    return;
+  }
+  read_body();
+}
+
+void HttpSession::read_body() {
   http::async_read(
       stream_, buffer_, *parser_,
       [self = shared_from_this()](const beast::error_code& error, std::size_t) { self->on_read(error); });

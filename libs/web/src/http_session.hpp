@@ -34,6 +34,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
  private:
   void read_next();
+  void on_header(const beast::error_code& error);
+  void read_body();
   void on_read(const beast::error_code& error);
   void write(BeastResponse response);
   void linger();

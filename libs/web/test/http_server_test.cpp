@@ -41,6 +41,7 @@ Router api_router() {
 class HttpServerTest : public ::testing::Test {
  protected:
   void start(ServerConfig config = {}) {
+    config.idle_timeout_seconds = testing::kTestIdleTimeout;
     server_ = std::make_unique<HttpServer>(std::move(config), api_router());
     auto port = server_->start();
     ASSERT_TRUE(port) << port.error().describe();
@@ -126,6 +127,25 @@ TEST_F(HttpServerTest, BodyOverTheLimitIs413) {
                        std::string(0x800, 'x') + "\r\n0\r\n\r\n");
   EXPECT_EQ(raw_status(answer), 413);
   EXPECT_EQ(http_request(port_, http::verb::post, "/api/orders", "{}").result_int(), 201U);
+}
+
+// RFC 9110 §10.1.1: the client sends the body only after the interim 100 (Continue).
+TEST_F(HttpServerTest, AnswersExpect100ContinueBeforeTheBody) {
+  start();
+  boost::asio::io_context context;
+  auto socket = testing::connect(context, port_);
+  const std::string header =
+      "POST /api/orders HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Content-Length: 2\r\nExpect: 100-continue\r\n\r\n";
+  boost::asio::write(socket, boost::asio::buffer(header));
+  boost::beast::flat_buffer buffer;
+  http::response<http::empty_body> interim;
+  http::read(socket, buffer, interim);  // throws at the idle timeout if the server waits for the body
+  EXPECT_EQ(interim.result(), http::status::continue_);
+  boost::asio::write(socket, boost::asio::buffer(std::string_view("{}")));
+  http::response<http::string_body> response;
+  http::read(socket, buffer, response);
+  EXPECT_EQ(response.result_int(), 201U);
 }
 
 TEST_F(HttpServerTest, HeaderSectionOverTheLimitIs431) {

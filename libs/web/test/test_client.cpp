@@ -1,21 +1,16 @@
 #include "test_client.hpp"
 
-#include <sys/socket.h>
-#include <sys/time.h>
-
 namespace sf::web::testing {
 namespace net = boost::asio;
 namespace beast = boost::beast;
 using tcp = net::ip::tcp;
 
-tcp::socket connect(net::io_context& context, std::uint16_t port, int seconds, int receive_buffer) {
+tcp::socket connect(net::io_context& context, std::uint16_t port, int receive_buffer) {
   tcp::socket socket(context);
   socket.open(tcp::v4());
   if (receive_buffer > 0) {
     socket.set_option(net::socket_base::receive_buffer_size(receive_buffer));
   }
-  timeval timeout{seconds, 0};
-  ::setsockopt(socket.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   socket.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
   return socket;
 }
@@ -66,7 +61,7 @@ int raw_status(std::string_view response) {
 }
 
 LiveClient::LiveClient(std::uint16_t port, int receive_buffer)
-    : ws_(connect(context_, port, 10, receive_buffer)) {
+    : ws_(connect(context_, port, receive_buffer)) {
   ws_.handshake("127.0.0.1", "/api/live");
 }
 

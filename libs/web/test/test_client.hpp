@@ -1,6 +1,7 @@
 // Clients for the server tests: Boost.Beast's HTTP and WebSocket clients over loopback, and a
-// raw socket for bytes no well-behaved client sends. Reads time out after a few seconds so a
-// server that does not answer fails the test instead of hanging it.
+// raw socket for bytes no well-behaved client sends. The reads block (Asio's synchronous reads
+// ignore SO_RCVTIMEO): an HTTP read the server never answers ends with the server's idle timeout
+// (kTestIdleTimeout), a live read with the test's timeout.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>
@@ -39,8 +40,11 @@ std::string raw_exchange(std::uint16_t port, std::string_view bytes);
 // The status code of a raw HTTP response ("HTTP/1.1 400 ..." → 400), 0 if none.
 int raw_status(std::string_view response);
 
-// A connected socket whose blocking reads time out after `seconds`.
-boost::asio::ip::tcp::socket connect(boost::asio::io_context& context, std::uint16_t port, int seconds = 5,
+// The idle timeout of the servers under test: a read they never answer fails after it.
+constexpr int kTestIdleTimeout = 5;
+
+// A connected socket; receive_buffer > 0 sets a small SO_RCVBUF.
+boost::asio::ip::tcp::socket connect(boost::asio::io_context& context, std::uint16_t port,
                                      int receive_buffer = 0);
 
 class LiveClient {
@@ -49,7 +53,7 @@ class LiveClient {
   explicit LiveClient(std::uint16_t port, int receive_buffer = 0);
   void send(std::string_view text);
   void send_binary(std::string_view bytes);
-  // The next message as JSON; throws on a closed connection or a timeout.
+  // The next message as JSON; throws on a closed connection.
   nlohmann::json receive();
   // Reads until the connection closes; the close code received (0 if none).
   int close_code();

@@ -148,14 +148,12 @@ TEST_F(LiveTest, MuchLargerMessageEndsTheConnectionAndTheServerSurvives) {
 TEST_F(LiveTest, UnmaskedFrameClosesWith1002AndTheServerSurvives) {
   boost::asio::io_context context;
   auto socket = testing::connect(context, port_);
-  const std::string handshake =
-      "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
-  boost::asio::write(socket, boost::asio::buffer(handshake));
   boost::beast::flat_buffer buffer;
-  boost::beast::http::response<boost::beast::http::empty_body> upgrade;
-  boost::beast::http::read(socket, buffer, upgrade);
-  ASSERT_EQ(upgrade.result_int(), 101U);
+  ASSERT_EQ(testing::write_and_read_status(
+                socket, buffer,
+                "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"),
+            101);
   const std::string unmasked = "\x81\x02hi";  // FIN + text, length 2, mask bit clear
   boost::asio::write(socket, boost::asio::buffer(unmasked));
   std::string frame = boost::beast::buffers_to_string(buffer.data());

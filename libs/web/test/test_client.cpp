@@ -60,6 +60,13 @@ int raw_status(std::string_view response) {
   return std::stoi(std::string(response.substr(9, 3)));
 }
 
+int write_and_read_status(tcp::socket& socket, beast::flat_buffer& buffer, std::string_view bytes) {
+  net::write(socket, net::buffer(bytes.data(), bytes.size()));
+  http::response<http::empty_body> response;
+  http::read(socket, buffer, response);
+  return static_cast<int>(response.result_int());
+}
+
 LiveClient::LiveClient(std::uint16_t port, int receive_buffer)
     : ws_(connect(context_, port, receive_buffer)) {
   ws_.handshake("127.0.0.1", "/api/live");

@@ -47,6 +47,11 @@ constexpr int kTestIdleTimeout = 5;
 boost::asio::ip::tcp::socket connect(boost::asio::io_context& context, std::uint16_t port,
                                      int receive_buffer = 0);
 
+// Writes bytes on a socket and reads the header of the response that follows (an interim or
+// 101 response has no body); what follows stays in `buffer`.
+int write_and_read_status(boost::asio::ip::tcp::socket& socket, boost::beast::flat_buffer& buffer,
+                          std::string_view bytes);
+
 class LiveClient {
  public:
   // receive_buffer > 0: a small SO_RCVBUF, for a client that reads slowly.

@@ -196,6 +196,31 @@ TEST_F(HttpServerTest, KeepsTheConnectionForTheNextRequest) {
   EXPECT_EQ(server_->stats().requests, 2U);
 }
 
+TEST_F(HttpServerTest, ServesConcurrentClientsOnSeveralThreads) {
+  ServerConfig config;
+  config.threads = 2;
+  start(config);
+  constexpr int kClients = 6;
+  constexpr int kRequests = 20;
+  std::vector<int> answered(kClients, 0);
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.emplace_back([&, c] {
+      for (int r = 0; r < kRequests; ++r) {
+        const auto id = std::to_string(c) + "-" + std::to_string(r);
+        auto response = http_request(port_, http::verb::get, "/api/orders/" + id);
+        answered[static_cast<std::size_t>(c)] +=
+            response.result_int() == 200U && json(response).at("id") == id;
+      }
+    });
+  }
+  for (auto& client : clients) {
+    client.join();
+  }
+  EXPECT_EQ(answered, std::vector<int>(kClients, kRequests));
+  EXPECT_EQ(server_->stats().requests, static_cast<std::uint64_t>(kClients * kRequests));
+}
+
 TEST_F(HttpServerTest, StopClosesOpenConnectionsAndThePort) {
   start();
   boost::asio::io_context context;

@@ -50,7 +50,7 @@ class ShopFloorServer {
   }
 
  private:
-  ua::NodeId object(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent) {
+  ua::NodeId object(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent) const {
     srv::ObjectSpec o;
     o.node_id = ua::NodeId(ns_, ua::String(name + ".Object"));
     o.browse_name = ua::QualifiedName(ns_, name);
@@ -60,7 +60,7 @@ class ShopFloorServer {
     (void)space.add_object(o);
     return o.node_id;
   }
-  void variable(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent) {
+  void variable(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent) const {
     srv::VariableSpec v;
     v.node_id = ua::NodeId(ns_, ua::String(name));
     v.browse_name = ua::QualifiedName(ns_, name);

@@ -52,7 +52,7 @@ inline void expect_made(Simulation& sim, const factory::Order& order) {
 // (OrderService.LastInspection) through the knowledge loop over the repository's ontology and
 // rules (SF_SOURCE_DIR); the alarms it raised.
 inline std::vector<cloud::Alarm> knowledge_alarms(const Simulation& sim) {
-  const char* root = std::getenv("SF_SOURCE_DIR");
+  const char* root = std::getenv("SF_SOURCE_DIR");  // NOLINT(concurrency-mt-unsafe): no thread sets it
   const std::string dir = root != nullptr ? root : ".";
   auto ontology = config::read_text(dir + "/ontology/candy-factory.ttl");
   auto rules = config::read_text(dir + "/rules/candy-factory.rules");

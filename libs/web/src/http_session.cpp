@@ -25,7 +25,7 @@ bool is_live_upgrade(const ServerConfig& config, const BeastRequest& request) {
 // with unread bytes does not reset the connection before the peer reads the answer
 // (RFC 9112 §9.6, tear-down).
 constexpr auto kLingerTime = std::chrono::seconds(2);
-constexpr std::size_t kLingerBytes = 1024 * 1024;
+constexpr std::size_t kLingerBytes = 1024UL * 1024UL;
 
 }  // namespace
 
@@ -132,7 +132,7 @@ void HttpSession::linger() {
 
 void HttpSession::drain() {
   buffer_.consume(buffer_.size());
-  stream_.async_read_some(buffer_.prepare(16 * 1024),
+  stream_.async_read_some(buffer_.prepare(16UL * 1024UL),
                           [self = shared_from_this()](const beast::error_code& error, std::size_t n) {
                             self->drained_ += n;
                             if (error || self->drained_ > kLingerBytes) {

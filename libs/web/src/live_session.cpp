@@ -31,7 +31,7 @@ LiveSession::LiveSession(beast::tcp_stream&& stream, std::shared_ptr<LiveHub> hu
       slot_(std::move(slot)),
       id_(hub_->next_id()) {}
 
-void LiveSession::run(beast::http::request<beast::http::string_body> request) {
+void LiveSession::run(const beast::http::request<beast::http::string_body>& request) {
   beast::get_lowest_layer(ws_).expires_never();  // the WebSocket layer keeps its own timeouts
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.read_message_max(config_.live_message_limit);

@@ -32,7 +32,7 @@ class LiveSession : public std::enable_shared_from_this<LiveSession> {
               std::shared_ptr<ConnectionSlot> slot);
 
   // Completes the opening handshake (RFC 6455 §4.2.2) for the upgrade request.
-  void run(boost::beast::http::request<boost::beast::http::string_body> request);
+  void run(const boost::beast::http::request<boost::beast::http::string_body>& request);
   // Queues a value of a topic when the client subscribed to it; any thread.
   void enqueue(const std::string& topic, const std::shared_ptr<const std::string>& message);
   [[nodiscard]] LiveClientStats stats() const;

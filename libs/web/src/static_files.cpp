@@ -9,7 +9,7 @@
 namespace sf::web {
 namespace {
 
-constexpr std::uintmax_t kMaxFileSize = 16U * 1024U * 1024U;
+constexpr std::uintmax_t kMaxFileSize = 16ULL * 1024ULL * 1024ULL;
 
 // Relative path inside the root, or invalid_argument when a segment could climb out of it.
 Result<std::filesystem::path> relative_path(std::string_view path) {

@@ -118,7 +118,8 @@ TEST_F(HttpServerTest, BodyOverTheLimitIs413) {
   ServerConfig config;
   config.body_limit = 1024;
   start(config);
-  expect_json_error(http_request(port_, http::verb::post, "/api/orders", std::string(64 * 1024, 'x')), 413);
+  expect_json_error(http_request(port_, http::verb::post, "/api/orders", std::string(64UL * 1024UL, 'x')),
+                    413);
   // A chunked body is counted as it arrives (RFC 9112 §7.1).
   const auto answer =
       raw_exchange(port_,
@@ -204,6 +205,7 @@ TEST_F(HttpServerTest, ServesConcurrentClientsOnSeveralThreads) {
   constexpr int kRequests = 20;
   std::vector<int> answered(kClients, 0);
   std::vector<std::thread> clients;
+  clients.reserve(kClients);
   for (int c = 0; c < kClients; ++c) {
     clients.emplace_back([&, c] {
       for (int r = 0; r < kRequests; ++r) {

@@ -131,7 +131,7 @@ TEST_F(LiveTest, MuchLargerMessageEndsTheConnectionAndTheServerSurvives) {
   {
     LiveClient client(port_);
     try {
-      client.send(std::string(256 * 1024, 'x'));
+      client.send(std::string(256UL * 1024UL, 'x'));
       const int code = client.close_code();
       EXPECT_TRUE(code == 1009 || code == 0) << code;
     } catch (const boost::system::system_error&) {

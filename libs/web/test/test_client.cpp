@@ -30,7 +30,7 @@ HttpResponse http_request(std::uint16_t port, http::verb method, std::string_vie
   http::write(socket, request, ignored);  // a refused body may be cut short; the answer is read
   beast::flat_buffer buffer;
   http::response_parser<http::string_body> parser;
-  parser.body_limit(64 * 1024 * 1024);
+  parser.body_limit(64ULL * 1024ULL * 1024ULL);
   parser.skip(method == http::verb::head);
   http::read(socket, buffer, parser);
   return parser.release();

@@ -30,12 +30,12 @@ struct ServerConfig {
   std::string live_path = "/api/live";
 
   // Limits: what a peer may make the server hold.
-  std::size_t body_limit = 64 * 1024;          // larger request bodies: 413 (RFC 9110 §15.5.14)
-  std::size_t header_limit = 8 * 1024;         // larger header sections: 431 (RFC 6585 §5)
-  std::size_t max_connections = 256;           // more at once: 503 and close (RFC 9110 §15.6.4)
-  std::size_t live_message_limit = 16 * 1024;  // larger WebSocket messages: close 1009
-  std::size_t live_topic_limit = 256;          // topics per live client (bounds its queue)
-  int idle_timeout_seconds = 30;               // a connection that sends nothing is closed
+  std::size_t body_limit = 64UL * 1024UL;          // larger request bodies: 413 (RFC 9110 §15.5.14)
+  std::size_t header_limit = 8UL * 1024UL;         // larger header sections: 431 (RFC 6585 §5)
+  std::size_t max_connections = 256;               // more at once: 503 and close (RFC 9110 §15.6.4)
+  std::size_t live_message_limit = 16UL * 1024UL;  // larger WebSocket messages: close 1009
+  std::size_t live_topic_limit = 256;              // topics per live client (bounds its queue)
+  int idle_timeout_seconds = 30;                   // a connection that sends nothing is closed
 };
 
 // Counters of one live (WebSocket) client.

@@ -10,6 +10,16 @@ process runs in a network namespace with an interface per protocol (paper §VII.
   - the DDS layout of every process is the paper's (`cnp layout` on the order service's DDS
     interface); every order is done once; the historian holds every machine's PackML state and
     every box's inspection (as factory_line_test);
+  - a DDS network partition between the order service and one robot for 5 s (issue acceptance
+    "Faults"): once SCARA Robot 1 has a load in work (its Job.JobId over OPC UA), its namespace's
+    DDS interface goes down for 5 s. The robot finishes the load meanwhile (EtherCAT and OPC UA
+    are other interfaces); the order service loses its liveliness after the lease (1 s), waits the
+    grace (3 s) and negotiates the load again; once the link is back, the robot's INFORM-DONE of
+    the withdrawn award ends the load and the machine it went to meanwhile is cancelled
+    (docs/factory.md "Faults"). Checked: the order service lost the robot and hears it again, all
+    20 orders are done exactly once, none failed, remade or left in work, and by the plant's ground
+    truth one box per order, none lost, every candy placed once and none dropped onto a filled
+    slot (no box loaded twice);
   - SIGINT ends the line with exit 0 and leaves no namespace, bridge or veth; a start whose process
     fails removes everything too, and namespaces a killed line left are removed by the next start.
 """
@@ -19,15 +29,19 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import time
 import uuid
+from collections import Counter
 
 from line_harness import (CONTROLLERS, EXECUTE, check_dds_layout, check_history, check_orders_done, history, machine_state,
-                          stop_line, wait_ready, write_orders)
+                          node_name, order_events, plant_snapshot, read_value, stop_line, wait_ready, write_orders)
 from sftest import Background, binary, check, json_events, run, skip, wait_for
 
 PARTITION = f"factory-hosts-{uuid.uuid4().hex[:8]}"
 ORDERS = 20
 ETHERCAT = "0x88a4"  # ETG.1000.4 §5.2: EtherCAT frames' EtherType
+ROBOT = "scara-robot-1"  # the smart robot cut off the DDS network
+CUT_S = 5  # how long its DDS link is down
 
 
 def namespaces(prefix):
@@ -133,6 +147,49 @@ def plant_modbus_ports(run_dir):
     return ports
 
 
+def service_log(run_dir):
+    """The order service's log (its event lines and the negotiation's log lines)."""
+    with open(os.path.join(run_dir, "log", "orders.log"), errors="replace") as f:
+        return f.read()
+
+
+def partition_robot(by_name, run_dir):
+    """Cuts SCARA Robot 1's DDS link (dds0 down in its namespace) for CUT_S seconds while it loads a
+    box (its OPC UA server shows a job in work), then restores it. EtherCAT and OPC UA go on: the
+    robot goes on with its job, cut off from the order service only. Returns the job's id."""
+    robot, cloud = by_name[ROBOT], by_name["cloud"]["netns"]
+    job_node = f"nsu=urn:smartfactory:machines;s={node_name(ROBOT)}.Job.JobId"
+    jobs = []
+    wait_for(lambda: jobs.append(read_value(robot["opcua"], job_node, cloud)) or jobs[-1], 600,
+             f"{ROBOT} loading a box", interval=0.2)
+    lost = f"contractor {ROBOT} lost liveliness"
+    lost_before = service_log(run_dir).count(lost)
+    run(["ip", "-n", robot["netns"], "link", "set", "dds0", "down"])
+    events_before = len(order_events(run_dir))
+    try:
+        time.sleep(CUT_S)  # the fault's length, not a criterion
+    finally:
+        run(["ip", "-n", robot["netns"], "link", "set", "dds0", "up"])
+    print(f"note: {ROBOT}'s DDS link was down {CUT_S} s from its job {jobs[-1]}; the order service meanwhile: "
+          f"{[(e['order'], e['what'], e['machine'], e['detail']) for e in order_events(run_dir)[events_before:]]}",
+          flush=True)
+    check(service_log(run_dir).count(lost) > lost_before, f"the order service lost {ROBOT} while its link was down")
+    wait_for(lambda: f"contractor {ROBOT} is alive again" in service_log(run_dir).split(lost)[-1], 60,
+             f"the order service hears {ROBOT} again")
+    return jobs[-1]
+
+
+def check_made_once(run_dir, orders, plant_ns):
+    """Every order done exactly once (its events), and by the plant's ground truth: one box per order,
+    none lost, every candy ordered placed and none dropped onto a filled slot (no box loaded twice)."""
+    done = Counter(e["order"] for e in order_events(run_dir) if e["what"] == "done")
+    check(set(done) == {o for o, _ in orders} and set(done.values()) == {1}, f"every order done exactly once: {done}")
+    counters = plant_snapshot(run_dir, ns=plant_ns)["counters"]
+    candies = sum(sum(c.values()) for _, c in orders)
+    check(counters["uploaded"] == len(orders) and counters["boxes_lost"] == 0 and counters["placed"] == candies and
+          counters["dropped"] == 0, f"one box per order, {candies} candies placed, none twice: {counters}")
+
+
 def check_leftovers_removed(tmp, run_dir):
     """A line killed after making its namespaces leaves them; the next start in the same run
     directory removes them first. Returns the prefix."""
@@ -179,7 +236,8 @@ def main():
         check_failed_start(tmp, run_dir, prefix)
 
         orders = os.path.join(tmp, "orders.yaml")
-        ids = [order_id for order_id, _ in write_orders(orders, ORDERS, seed=24)]
+        made = write_orders(orders, ORDERS, seed=24)
+        ids = [order_id for order_id, _ in made]
         db = f"sqlite:{tmp}/history.db"
         line = Background([binary(), "line", "--hosts", "--run-dir", run_dir, "--partition", PARTITION,
                            "--orders", orders, "--historian", db, "--json", "--status-interval", "5"],
@@ -195,7 +253,12 @@ def main():
             check_dds_layout(PARTITION, ns=by_name["orders"]["netns"], interface="dds0")
             endpoint = by_name["orders"]["opcua"]
             check(endpoint.startswith("opc.tcp://10.77.3."), f"the order service serves on its OPC UA address: {endpoint}")
+            job = partition_robot(by_name, run_dir)
             check_orders_done(endpoint, ORDERS, ns=by_name["cloud"]["netns"])
+            check_made_once(run_dir, made, by_name["conveyor1"]["netns"])
+            print(f"note: the cut-off job {job}: " + "; ".join(
+                f"{e['what']} {e['machine']} {e['detail']}" for e in order_events(run_dir)
+                if e["order"] == job.split(".")[0]), flush=True)
             wait_for(lambda: history(tmp, "series") is not None, 30, "the historian has series")
             # Every machine in Execute (no faults on this line), as its own server tells the cloud's
             # namespace, and as the historian holds it.

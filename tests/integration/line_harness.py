@@ -198,9 +198,11 @@ def order_events(run_dir):
 
 
 def plant_control(run_dir):
-    """HOST:PORT of the plant's control port, from the endpoints line in its log."""
+    """HOST:PORT of the plant's control port, from the latest endpoints line in its log (a run
+    directory may hold an earlier run's; on a line with --hosts, reached from a namespace on the
+    field network)."""
     with open(os.path.join(run_dir, "log", "plant.log")) as f:
-        line = next(l for l in f if l.startswith('{"endpoints"'))
+        line = [l for l in f if l.startswith('{"endpoints"')][-1]
     return next(e["address"] for e in json.loads(line)["endpoints"] if e["protocol"] == "control")
 
 
@@ -209,8 +211,9 @@ def plant_events(run_dir):
     return json.loads(run([binary(), "plant", "events", "--control", plant_control(run_dir), "--json"]).stdout)["events"]
 
 
-def plant_snapshot(run_dir):
-    return json.loads(run([binary(), "plant", "snapshot", "--control", plant_control(run_dir), "--json"]).stdout)["snapshot"]
+def plant_snapshot(run_dir, ns=None):
+    return json.loads(run([binary(), "plant", "snapshot", "--control", plant_control(run_dir), "--json"],
+                          ns=ns).stdout)["snapshot"]
 
 
 def plant_fault(run_dir, action, fault):

@@ -66,9 +66,13 @@ def wait_for_line(background, prefix, timeout):
 
 def json_events(text, kind=None):
     """The JSON lines of a process's output (lines starting with '{'), only those whose "event" is
-    kind when given; a line that is not JSON fails the test."""
+    kind when given; a line that is not JSON fails the test. A last line without its newline is left
+    for the next read: the process may be writing it (a long line reaches a log file in pieces)."""
     out = []
-    for line in text.splitlines():
+    lines = text.splitlines()
+    if text and not text.endswith("\n"):
+        lines = lines[:-1]
+    for line in lines:
         if line.startswith("{"):
             try:
                 e = json.loads(line)

@@ -269,6 +269,9 @@ void Manager::withdraw(Conversation& c, std::string_view reason) {
 
 void Manager::renegotiate(Conversation& c, std::string_view reason) {
   log_->info("{}: renegotiating ({})", c.id, reason);
+  if (c.phase == Phase::Working && !c.contractor.empty()) {
+    c.given_up[c.last_award] = c.contractor;
+  }
   withdraw(c, reason);
   ++c.renegotiations;
   ++stats_.renegotiations;
@@ -398,9 +401,17 @@ void Manager::on_confirm(Conversation& c, const ContractorMessage& m, const Conf
 }
 
 void Manager::on_inform_done(Conversation& c, const ContractorMessage& m, const InformDone& done) {
-  if (!is_live_award(c, m) || c.phase != Phase::Working) {
+  const bool live = is_live_award(c, m) && c.phase == Phase::Working;
+  if (!live && !was_given_up(c, m)) {
     ignore(m, "INFORM-DONE for an award that is not being worked");
     return;
+  }
+  if (!live) {
+    // Cut off, not gone: the work is done, and whoever has it now must not do it again.
+    log_->info("{}: {} did award {} after all; ending the conversation with it", c.id, m.contractor,
+               done.award_id);
+    withdraw(c, "done by an earlier award");
+    c.contractor = m.contractor;
   }
   log_->debug("{}: done by {}: {}", c.id, m.contractor, done.result);
   c.result = done.result;
@@ -418,6 +429,11 @@ void Manager::on_failure(Conversation& c, const ContractorMessage& m, const Fail
 
 bool Manager::is_live_award(const Conversation& c, const ContractorMessage& m) const {
   return !c.contractor.empty() && m.contractor == c.contractor && award_of(m.body) == c.last_award;
+}
+
+bool Manager::was_given_up(const Conversation& c, const ContractorMessage& m) {
+  const auto it = c.given_up.find(award_of(m.body));
+  return it != c.given_up.end() && it->second == m.contractor;
 }
 
 void Manager::on_contractor_lost(const std::string& operation, const std::string& contractor) {

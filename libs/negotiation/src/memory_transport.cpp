@@ -1,6 +1,7 @@
 #include "sf/negotiation/memory_transport.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace sf::negotiation {
 
@@ -76,25 +77,76 @@ std::size_t MemoryNetwork::live_contractors(const std::string& operation) const 
   }));
 }
 
+void MemoryNetwork::tell_managers(const MemoryContractorEndpoint& contractor,
+                                  void (ManagerInbox::*what)(const std::string&, const std::string&)) {
+  for (auto& m : managers_) {
+    for (const auto& op : contractor.operations_) {
+      if (m->inbox_ != nullptr) {
+        (m->inbox_->*what)(op, contractor.name_);
+      }
+    }
+  }
+}
+
 void MemoryNetwork::kill(const std::string& contractor) {
   for (auto& c : contractors_) {
     if (c->name_ != contractor || !c->alive_) {
       continue;
     }
     c->alive_ = false;
-    MemoryContractorEndpoint* dead = c.get();
     // Liveliness expiry is not a message: it is not reordered or duplicated.
-    queue_.emplace(std::make_pair(clock_->now() + options_.lease, ++seq_), [this, dead] {
+    queue_.emplace(std::make_pair(clock_->now() + options_.lease, ++seq_), [this, dead = c.get()] {
       dead->reported_lost_ = true;
-      for (auto& m : managers_) {
-        for (const auto& op : dead->operations_) {
-          if (m->inbox_ != nullptr) {
-            m->inbox_->on_contractor_lost(op, dead->name_);
-          }
-        }
-      }
+      tell_managers(*dead, &ManagerInbox::on_contractor_lost);
     });
   }
+}
+
+void MemoryNetwork::cut_off(const std::string& contractor) {
+  for (auto& c : contractors_) {
+    if (c->name_ != contractor || !c->alive_ || c->cut_off_) {
+      continue;
+    }
+    c->cut_off_ = true;
+    queue_.emplace(std::make_pair(clock_->now() + options_.lease, ++seq_),
+                   [this, cut = c.get(), n = ++c->cuts_] {
+                     if (cut->cut_off_ && cut->cuts_ == n && cut->alive_ && !cut->reported_lost_) {
+                       cut->reported_lost_ = true;
+                       tell_managers(*cut, &ManagerInbox::on_contractor_lost);
+                     }
+                   });
+  }
+}
+
+void MemoryNetwork::reconnect(const std::string& contractor) {
+  for (auto& c : contractors_) {
+    if (c->name_ != contractor || !c->cut_off_) {
+      continue;
+    }
+    c->cut_off_ = false;
+    if (c->reported_lost_ && c->alive_) {
+      c->reported_lost_ = false;
+      tell_managers(*c, &ManagerInbox::on_contractor_alive);
+    }
+    for (auto& again : std::exchange(c->held_, {})) {
+      again();
+    }
+  }
+}
+
+void MemoryNetwork::post_to(MemoryContractorEndpoint* to, const std::string& channel,
+                            std::function<void(ContractorInbox&)> deliver) {
+  post(channel, [this, to, channel, deliver = std::move(deliver)]() mutable {
+    if (!to->alive_) {
+      ++stats_.dropped;
+    } else if (to->cut_off_) {
+      to->held_.emplace_back([this, to, channel, deliver = std::move(deliver)]() mutable {
+        post_to(to, channel, std::move(deliver));
+      });
+    } else if (to->inbox_ != nullptr) {
+      deliver(*to->inbox_);
+    }
+  });
 }
 
 // --- manager endpoint ---------------------------------------------------------
@@ -102,14 +154,8 @@ void MemoryNetwork::kill(const std::string& contractor) {
 Status MemoryManagerEndpoint::announce(const Announce& a) {
   for (auto& c : net_->contractors_) {
     if (c->alive_ && c->serves(a.operation)) {
-      MemoryContractorEndpoint* to = c.get();
-      net_->post("m" + std::to_string(id_) + "/ANNOUNCE", [net = net_, to, a] {
-        if (to->alive_ && to->inbox_ != nullptr) {
-          to->inbox_->on_announce(a);
-        } else {
-          ++net->stats_.dropped;
-        }
-      });
+      net_->post_to(c.get(), "m" + std::to_string(id_) + "/ANNOUNCE",
+                    [a](ContractorInbox& inbox) { inbox.on_announce(a); });
     }
   }
   return {};
@@ -118,14 +164,8 @@ Status MemoryManagerEndpoint::announce(const Announce& a) {
 Status MemoryManagerEndpoint::send(const ManagerMessage& m) {
   for (auto& c : net_->contractors_) {
     if (c->alive_ && c->serves(m.operation)) {
-      MemoryContractorEndpoint* to = c.get();
-      net_->post("m" + std::to_string(id_) + "/AWARD", [net = net_, to, m] {
-        if (to->alive_ && to->inbox_ != nullptr) {
-          to->inbox_->on_manager_message(m);
-        } else {
-          ++net->stats_.dropped;
-        }
-      });
+      net_->post_to(c.get(), "m" + std::to_string(id_) + "/AWARD",
+                    [m](ContractorInbox& inbox) { inbox.on_manager_message(m); });
     }
   }
   return {};
@@ -134,13 +174,11 @@ Status MemoryManagerEndpoint::send(const ManagerMessage& m) {
 void MemoryManagerEndpoint::close(const std::string& operation, const std::string& conversation) {
   for (auto& c : net_->contractors_) {
     if (c->alive_ && c->serves(operation)) {
-      MemoryContractorEndpoint* to = c.get();
       // Disposal follows the AWARD writer's data, so it shares that channel.
-      net_->post("m" + std::to_string(id_) + "/AWARD", [to, operation, conversation] {
-        if (to->alive_ && to->inbox_ != nullptr) {
-          to->inbox_->on_conversation_closed(operation, conversation);
-        }
-      });
+      net_->post_to(c.get(), "m" + std::to_string(id_) + "/AWARD",
+                    [operation, conversation](ContractorInbox& inbox) {
+                      inbox.on_conversation_closed(operation, conversation);
+                    });
     }
   }
 }
@@ -188,11 +226,16 @@ Status MemoryContractorEndpoint::send(const ContractorMessage& m) {
   }
   for (auto& mgr : net_->managers_) {
     MemoryManagerEndpoint* to = mgr.get();
-    net_->post(name_ + "/BID", [to, m] {
+    auto deliver = [to, m] {
       if (to->inbox_ != nullptr) {
         to->inbox_->on_contractor_message(m);
       }
-    });
+    };
+    if (cut_off_) {
+      held_.emplace_back([net = net_, channel = name_ + "/BID", deliver] { net->post(channel, deliver); });
+    } else {
+      net_->post(name_ + "/BID", std::move(deliver));
+    }
   }
   return {};
 }

@@ -313,9 +313,10 @@ TEST_F(ManagerTest, LostAwardeeIsSkippedAndLostWorkerTriggersRenegotiation) {
   // The old award is withdrawn in case M2 is alive after all.
   EXPECT_EQ(transport.sent.back().contractor, "M2");
   EXPECT_TRUE(std::holds_alternative<Cancel>(transport.sent.back().body));
-  // An INFORM-DONE of the withdrawn award changes nothing.
-  m.on_contractor_message(from(id, "M2", 1, InformDone{2, "ok"}));
+  // A FAILURE of the withdrawn award (the CANCEL reached M2) changes nothing.
+  m.on_contractor_message(from(id, "M2", 1, Failure{2, "cancelled"}));
   EXPECT_TRUE(done.empty());
+  EXPECT_EQ(transport.announces.size(), 2U);
   m.on_contractor_message(from(id, "M3", 2, bid_at(clock, 5ms)));
   advance(100ms, m);
   m.on_contractor_message(from(id, "M3", 2, Confirm{3}));
@@ -364,6 +365,51 @@ TEST_F(ManagerTest, ALostWorkerNotBackWithinItsGraceIsReplacedAndTheWorkTimeoutS
   EXPECT_EQ(transport.announces.size(), 2U);
   advance(1ms, m);
   EXPECT_EQ(transport.announces.size(), 3U);
+}
+
+// A worker cut off for longer than its grace (a network partition) goes on working; its
+// INFORM-DONE arrives once the network is back. Its work is done: the conversation ends with it,
+// and the machine the work was given to meanwhile is told to stop before it does it a second time.
+TEST_F(ManagerTest, AWorkerGivenUpOnThatReportsItsWorkDoneEndsTheConversation) {
+  Manager m{transport, clock, with_grace(0s)};
+  const auto id = m1_working(m, 2);
+  m.on_contractor_lost("OP1", "M1");
+  advance(2s, m);  // the grace is over: M1's award 1 withdrawn, round 2
+  ASSERT_EQ(transport.announces.size(), 2U);
+  m.on_contractor_message(from(id, "M2", 2, bid_at(clock, 10ms)));
+  advance(100ms, m);
+  m.on_contractor_message(from(id, "M2", 2, Confirm{2}));
+  ASSERT_EQ(confirmed, (std::vector<std::string>{"M1", "M2"}));
+
+  m.on_contractor_alive("OP1", "M1");
+  m.on_contractor_message(from(id, "M1", 1, InformDone{1, "loaded", {{"box", 7.0}}}));
+  EXPECT_EQ(done, std::vector<std::string>{"M1"});
+  EXPECT_EQ(results, (std::vector<Param>{{"box", 7.0}}));
+  EXPECT_EQ(m.find(id), nullptr);
+  EXPECT_EQ(transport.sent.back().contractor, "M2");
+  EXPECT_EQ(std::get<Cancel>(transport.sent.back().body).award_id, 2U);
+  EXPECT_EQ(transport.announces.size(), 2U);
+  // M2's answer to the CANCEL comes to a finished conversation.
+  m.on_contractor_message(from(id, "M2", 2, Failure{2, "cancelled"}));
+  EXPECT_EQ(m.last_ignored(), "unknown or finished conversation");
+  EXPECT_TRUE(failed.empty());
+}
+
+// The same INFORM-DONE while the operation is still being announced: nobody else has it yet.
+TEST_F(ManagerTest, AWorkerGivenUpOnThatReportsDoneWhileAnnouncingEndsTheConversation) {
+  Manager m{transport, clock, with_grace(0s)};
+  const auto id = m1_working(m, 1);
+  m.on_contractor_lost("OP1", "M1");
+  advance(2s, m);
+  ASSERT_EQ(m.find(id)->phase, Phase::Collecting);
+  const auto cancels = transport.of_kind<Cancel>().size();
+  // Another contractor's INFORM-DONE for M1's award proves nothing.
+  m.on_contractor_message(from(id, "M2", 1, InformDone{1, "ok"}));
+  EXPECT_EQ(m.last_ignored(), "INFORM-DONE for an award that is not being worked");
+  m.on_contractor_message(from(id, "M1", 1, InformDone{1, "ok"}));
+  EXPECT_EQ(done, std::vector<std::string>{"M1"});
+  EXPECT_EQ(transport.of_kind<Cancel>().size(), cancels);
+  EXPECT_EQ(transport.closed.size(), 1U);
 }
 
 TEST_F(ManagerTest, LostBidderIsNotAwarded) {

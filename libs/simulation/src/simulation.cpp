@@ -88,6 +88,8 @@ struct Simulation::Parts {
   }
 
   [[nodiscard]] bool central() const { return options.decisions == Decisions::central_dispatcher; }
+  // Errc::not_found unless `machine` has a controller here.
+  [[nodiscard]] Status known(const std::string& machine) const;
 
   static cnp::MemoryNetworkOptions network_options(std::uint64_t seed) {
     cnp::MemoryNetworkOptions o;
@@ -319,17 +321,31 @@ const plant::Plant& Simulation::plant() const {
 const std::vector<factory::OrderEvent>& Simulation::order_events() const {
   return parts_->events;
 }
-Status Simulation::kill(const std::string& machine) {
-  const bool known = std::any_of(parts_->robots.begin(), parts_->robots.end(),
+Status Simulation::Parts::known(const std::string& machine) const {
+  const bool found = std::any_of(robots.begin(), robots.end(),
                                  [&](const auto& r) { return r->robot.identification().name == machine; }) ||
-                     std::any_of(parts_->gateways.begin(), parts_->gateways.end(), [&](const GatewayNode& g) {
+                     std::any_of(gateways.begin(), gateways.end(), [&](const GatewayNode& g) {
                        return g.gateway->config().controller.machine == machine;
                      });
-  if (!known) {
-    return make_error(Errc::not_found, fmt::format("no controller '{}'", machine));
-  }
+  return found ? Status{} : make_error(Errc::not_found, fmt::format("no controller '{}'", machine));
+}
+
+Status Simulation::kill(const std::string& machine) {
+  SF_TRY(parts_->known(machine));
   parts_->dead.insert(machine);
   parts_->net.kill(machine);
+  return {};
+}
+
+Status Simulation::cut_off(const std::string& machine) {
+  SF_TRY(parts_->known(machine));
+  parts_->net.cut_off(machine);
+  return {};
+}
+
+Status Simulation::reconnect(const std::string& machine) {
+  SF_TRY(parts_->known(machine));
+  parts_->net.reconnect(machine);
   return {};
 }
 

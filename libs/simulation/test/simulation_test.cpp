@@ -73,6 +73,66 @@ TEST(SimulationFaults, ASmartRobotKilledMidLoadIsReplacedAndItsBoxFinishedOrMade
   dump_on_failure(*sim);
 }
 
+std::chrono::nanoseconds working(const Simulation& sim, std::string_view machine) {
+  for (const auto& l : sim.loads()) {
+    if (l.machine == machine) {
+      return l.working;
+    }
+  }
+  return {};
+}
+
+// SCARA Robot 1's DDS link cut for 5 s while it loads a box. The order service loses it after the
+// lease and negotiates the load again after kLostGrace; the robot finishes the load meanwhile, and
+// its INFORM-DONE arrives once the link is back: the load is done, and the machine it went to in
+// the meantime is told to stop. No box is loaded twice (no candy dropped onto a filled slot), none
+// is made again.
+TEST(SimulationFaults, ASmartRobotCutOffWhileLoadingLoadsItsBoxOnce) {
+  auto sim = make();
+  ASSERT_TRUE(sim);
+  const std::vector<factory::Order> orders{{"a", "small-box", {{"gummy", 1}}},
+                                           {"b", "small-box", {{"chocolate", 1}}},
+                                           {"c", "small-box", {{"gummy", 1}, {"chocolate", 1}}}};
+  for (const auto& o : orders) {
+    ASSERT_TRUE(sim->submit(o));
+  }
+  ASSERT_TRUE(sim->run_until([&] { return working(*sim, "scara-robot-1") > 0ns; }, 600s));
+  std::string cut_order;  // whose load the robot has in work
+  for (const auto& e : sim->order_events()) {
+    if (e.what == "awarded" && e.machine == "scara-robot-1") {
+      cut_order = e.order;
+    }
+  }
+  ASSERT_TRUE(sim->cut_off("scara-robot-1"));
+  const auto cut_at = sim->now();
+  sim->run_until([] { return false; }, 5s);
+  ASSERT_TRUE(sim->reconnect("scara-robot-1"));
+  EXPECT_FALSE(sim->cut_off("no-such-machine"));
+  EXPECT_TRUE(sim->run_until([&] { return sim->host().idle(); }, 3600s));
+  expect_all_done_with_their_content(*sim);
+
+  // The partition did what it should: the load was negotiated again while the robot was away,
+  // and the robot's own report of it counted.
+  bool renegotiated = false;
+  bool loaded_by_robot = false;
+  for (const auto& e : sim->order_events()) {
+    if (e.order == cut_order && e.at > cut_at) {
+      renegotiated = renegotiated || (e.what == "awarded" && e.detail.starts_with("load (round 2"));
+      loaded_by_robot = loaded_by_robot || (e.what == "loaded" && e.machine == "scara-robot-1");
+    }
+  }
+  EXPECT_TRUE(renegotiated) << cut_order;
+  EXPECT_TRUE(loaded_by_robot) << cut_order;
+  const auto& counters = sim->plant().world().counters();
+  EXPECT_EQ(counters.dropped, 0U);
+  EXPECT_EQ(counters.uploaded, orders.size());
+  EXPECT_EQ(counters.placed, 4U);
+  for (const auto& [id, r] : sim->host().records()) {
+    EXPECT_EQ(r.boxes.size(), 1U) << id << " made again";
+  }
+  dump_on_failure(*sim);
+}
+
 TEST(SimulationFaults, APlcUnreachableIsWaitedForAndTheLineGoesOnWhenItReturns) {
   auto sim = make();
   ASSERT_TRUE(sim);

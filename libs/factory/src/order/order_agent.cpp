@@ -172,6 +172,12 @@ void OrderAgent::on_work_done(const cnp::Conversation& c) {
 }
 
 void OrderAgent::route_to_machine() {
+  // One route at a time, and only to a machine that confirmed the current step. A step may end
+  // while its box is on the way to another machine (its first machine, cut off, did the work after
+  // all); the box then stops where its transport ends until the next step's machine confirms.
+  if (moving_ || target_.empty()) {
+    return;
+  }
   moving_ = true;
   auto id =
       context_.decisions->plan(product_, location_, target_,
@@ -202,7 +208,7 @@ void OrderAgent::on_route(const Result<cnp::Route>& route) {
 }
 
 void OrderAgent::next_transport() {
-  if (location_ == target_ || hops_.empty()) {
+  if (location_ == target_ || hops_.empty() || target_.empty()) {
     moving_ = false;
     if (location_ != target_) {  // re-awarded to another machine on the way
       route_to_machine();

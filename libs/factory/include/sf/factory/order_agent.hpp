@@ -14,7 +14,10 @@
 //      and its INFORM-DONE ends the step.
 //
 // If the machine fails or is lost, the manager negotiates the operation again
-// and the box is routed to the new machine from where it stands. A
+// and the box is routed to the new machine from where it stands. If the lost
+// machine was only cut off and reports the work done after all, the step ends
+// with its report: a box already on its way to the new machine stops where its
+// transport ends and goes on from there to the next step's machine. A
 // conversation that finds no machine at all, or a route or transport that
 // fails, is tried again after a delay. The downloader's inspection (weight,
 // candies per type) ends the order: it is done when the content equals the

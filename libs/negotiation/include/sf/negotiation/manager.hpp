@@ -20,6 +20,11 @@
 //   a lost worker has that long to come back (liveliness regained, or any message
 //   from it) before its work is given up: a machine that only missed its lease
 //   (a loaded host) may be moving a box, which a second award cannot undo.
+// - A worker given up on (renegotiated while it worked) that reports INFORM-DONE
+//   of its withdrawn award while the conversation is still open did the work: it
+//   was cut off, not gone (a network partition longer than the grace). The
+//   conversation ends with its result and a newer award is withdrawn (CANCEL):
+//   doing the work again would do it twice. Its FAILURE changes nothing.
 // - DIRECTEDAWARD: the award goes to a named contractor without a call; if it
 //   refuses or does not confirm, the manager falls back to ANNOUNCE.
 // - Bids after the deadline, for another round, duplicates, and messages for
@@ -91,6 +96,7 @@ struct Conversation {
   std::set<std::string> answered;                // bid or declined this round
   std::vector<RankedBid> candidates;             // ranked bids not yet tried
   std::set<std::string> lost;                    // contractors whose liveliness was lost
+  std::map<std::uint32_t, std::string> given_up;  // confirmed awards withdrawn while worked: id → contractor
   Clock::time_point started_at{};
   Clock::time_point confirmed_at{};
   Clock::time_point timer = Clock::time_point::max();
@@ -166,6 +172,7 @@ class Manager final : public ManagerInbox {
   void on_inform_done(Conversation& c, const ContractorMessage& m, const InformDone& done);
   void on_failure(Conversation& c, const ContractorMessage& m, const Failure& failure);
   [[nodiscard]] bool is_live_award(const Conversation& c, const ContractorMessage& m) const;
+  [[nodiscard]] static bool was_given_up(const Conversation& c, const ContractorMessage& m);
   void ignore(const ContractorMessage& m, std::string_view reason, bool expected = false);
 
   ManagerTransport* transport_;

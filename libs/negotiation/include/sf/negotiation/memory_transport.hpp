@@ -2,8 +2,9 @@
 // benchmark. It delivers like DDS does for the paper's topics (an ANNOUNCE or
 // AWARD reaches every contractor of that operation, a contractor's message
 // every manager), with injectable faults: latency and jitter, reordering,
-// duplicates, and contractors that die (their traffic stops; managers are told
-// after the liveliness lease, as DDS would).
+// duplicates, contractors that die (their traffic stops; managers are told
+// after the liveliness lease, as DDS would) and contractors cut off the
+// network for a while (their traffic waits; see cut_off()).
 //
 // Nothing happens on its own: deliver() hands over every message that is due
 // by the clock; tests advance a ManualClock between calls.
@@ -83,6 +84,10 @@ class MemoryContractorEndpoint final : public ContractorTransport {
   ContractorInbox* inbox_ = nullptr;
   bool alive_ = true;
   bool reported_lost_ = false;
+  bool cut_off_ = false;
+  std::uint64_t cuts_ = 0;  // which cut a liveliness expiry belongs to
+  // While cut off: what waits to be sent again (deliveries to it, its own messages), in order.
+  std::vector<std::function<void()>> held_;
   std::uint64_t closed_ = 0;
 };
 
@@ -123,6 +128,13 @@ class MemoryNetwork {
   // The contractor's process dies: it neither sends nor receives from now on;
   // every manager gets on_contractor_lost for each of its operations after the lease.
   void kill(const std::string& contractor);
+  // The contractor's link to the network is cut (a network partition shorter than the DDS
+  // participants' lease, 10 s): it goes on working, but what it sends and what is sent to it waits;
+  // every manager gets on_contractor_lost after the liveliness lease. reconnect() ends the cut:
+  // managers get on_contractor_alive, then everything that waited is delivered in its order, as
+  // reliable DDS writers send it again once their readers acknowledge.
+  void cut_off(const std::string& contractor);
+  void reconnect(const std::string& contractor);
 
   // Delivers every message due by now (in due order, including messages that
   // deliveries send with no latency). Returns how many were delivered.
@@ -140,6 +152,12 @@ class MemoryNetwork {
   // `channel` names the sender and topic; with keep_order, a channel's
   // messages are delivered in the order sent.
   void post(const std::string& channel, std::function<void()> deliver);
+  // A delivery to a contractor on `channel`: dropped when it is dead, held while it is cut off.
+  void post_to(MemoryContractorEndpoint* to, const std::string& channel,
+               std::function<void(ContractorInbox&)> deliver);
+  // Every manager's inbox is told `what` for each operation of `contractor`.
+  void tell_managers(const MemoryContractorEndpoint& contractor,
+                     void (ManagerInbox::*what)(const std::string&, const std::string&));
   [[nodiscard]] Clock::time_point due_time(const std::string& channel);
   [[nodiscard]] std::size_t live_contractors(const std::string& operation) const;
 

@@ -77,6 +77,10 @@ class Simulation {
   // cycling, so its slave leaves OP by its watchdog; a gateway stops polling its PLC) and its
   // Contract Net traffic stops (the products see its liveliness lost after the lease).
   Status kill(const std::string& machine);
+  // The controller's DDS link is cut (a network partition): it goes on working, but its Contract
+  // Net messages, and those to it, wait until reconnect() (MemoryNetwork::cut_off).
+  Status cut_off(const std::string& machine);
+  Status reconnect(const std::string& machine);
   // A plant fault as `plant faults` names them, e.g. "jam:conveyor2" (plant/faults.hpp).
   Status inject(std::string_view fault);
   Status clear(std::string_view fault);

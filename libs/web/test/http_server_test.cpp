@@ -65,6 +65,13 @@ class HttpServerTest : public ::testing::Test {
     EXPECT_FALSE(body.at("error").get<std::string>().empty());
     expect_security_headers(response);
   }
+  // A refusal with the header that says what would be accepted (Allow, Upgrade).
+  void expect_refusal(http::verb verb, const std::string& target, int status, http::field field,
+                      const char* value) const {
+    const auto response = http_request(port_, verb, target);
+    expect_json_error(response, status);
+    EXPECT_EQ(response[field], value);
+  }
 
   std::unique_ptr<HttpServer> server_;
   std::uint16_t port_ = 0;
@@ -89,9 +96,7 @@ TEST_F(HttpServerTest, UnknownRouteIs404) {
 
 TEST_F(HttpServerTest, WrongMethodIs405WithAllow) {
   start();
-  auto response = http_request(port_, http::verb::delete_, "/api/orders");
-  expect_json_error(response, 405);
-  EXPECT_EQ(response[http::field::allow], "POST");
+  expect_refusal(http::verb::delete_, "/api/orders", 405, http::field::allow, "POST");
 }
 
 TEST_F(HttpServerTest, MalformedJsonBodyIs400FromTheHandler) {
@@ -133,18 +138,14 @@ TEST_F(HttpServerTest, BodyOverTheLimitIs413) {
 // RFC 9110 §10.1.1: the client sends the body only after the interim 100 (Continue).
 TEST_F(HttpServerTest, AnswersExpect100ContinueBeforeTheBody) {
   start();
-  boost::asio::io_context context;
-  auto socket = testing::connect(context, port_);
-  boost::beast::flat_buffer buffer;
+  testing::RawConnection raw(port_);
   // Throws at the idle timeout if the server waits for the body.
-  EXPECT_EQ(testing::write_and_read_status(
-                socket, buffer,
-                "POST /api/orders HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                "Content-Length: 2\r\nExpect: 100-continue\r\n\r\n"),
+  EXPECT_EQ(raw.status("POST /api/orders HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                       "Content-Length: 2\r\nExpect: 100-continue\r\n\r\n"),
             100);
-  boost::asio::write(socket, boost::asio::buffer(std::string_view("{}")));
+  boost::asio::write(raw.socket, boost::asio::buffer(std::string_view("{}")));
   http::response<http::string_body> response;
-  http::read(socket, buffer, response);
+  http::read(raw.socket, raw.buffer, response);
   EXPECT_EQ(response.result_int(), 201U);
 }
 
@@ -182,9 +183,7 @@ TEST_F(HttpServerTest, ConnectionsOverTheLimitAre503) {
 
 TEST_F(HttpServerTest, LivePathWithoutUpgradeIs426) {
   start();
-  auto response = http_request(port_, http::verb::get, "/api/live");
-  expect_json_error(response, 426);
-  EXPECT_EQ(response[http::field::upgrade], "websocket");
+  expect_refusal(http::verb::get, "/api/live", 426, http::field::upgrade, "websocket");
 }
 
 TEST_F(HttpServerTest, KeepsTheConnectionForTheNextRequest) {

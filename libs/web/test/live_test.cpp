@@ -106,19 +106,17 @@ TEST_F(LiveTest, TopicsPerClientAreBounded) {
   EXPECT_EQ(client.receive().at("subscribed"), nlohmann::json::array({"a", "b"}));
 }
 
-TEST_F(LiveTest, BinaryMessageClosesWith1003) {
-  LiveClient client(port_);
-  client.send_binary("\x01\x02");
-  EXPECT_EQ(client.close_code(), 1003);  // RFC 6455 §7.4.1
-}
-
-TEST_F(LiveTest, OversizedMessageClosesWith1009) {
+// RFC 6455 §7.4.1: 1003 for a data type the endpoint cannot accept, 1009 for a message too big.
+TEST_F(LiveTest, BinaryMessagesCloseWith1003AndOversizedOnesWith1009) {
   ServerConfig config;
   config.live_message_limit = 1024;
   start(config);
-  LiveClient client(port_);
-  client.send(R"({"subscribe": [")" + std::string(1500, 'x') + R"("]})");
-  EXPECT_EQ(client.close_code(), 1009);  // RFC 6455 §7.4.1
+  LiveClient binary(port_);
+  binary.send_binary("\x01\x02");
+  EXPECT_EQ(binary.close_code(), 1003);
+  LiveClient oversized(port_);
+  oversized.send(R"({"subscribe": [")" + std::string(1500, 'x') + R"("]})");
+  EXPECT_EQ(oversized.close_code(), 1009);
 }
 
 // Beast 1.74's server tear-down reads at most 2 KiB of what the peer still sends before it
@@ -146,21 +144,17 @@ TEST_F(LiveTest, MuchLargerMessageEndsTheConnectionAndTheServerSurvives) {
 
 // A frame no client may send (RFC 6455 §5.1: client frames are masked) on a raw connection.
 TEST_F(LiveTest, UnmaskedFrameClosesWith1002AndTheServerSurvives) {
-  boost::asio::io_context context;
-  auto socket = testing::connect(context, port_);
-  boost::beast::flat_buffer buffer;
-  ASSERT_EQ(testing::write_and_read_status(
-                socket, buffer,
-                "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"),
+  testing::RawConnection raw(port_);
+  ASSERT_EQ(raw.status("GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                       "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"),
             101);
   const std::string unmasked = "\x81\x02hi";  // FIN + text, length 2, mask bit clear
-  boost::asio::write(socket, boost::asio::buffer(unmasked));
-  std::string frame = boost::beast::buffers_to_string(buffer.data());
+  boost::asio::write(raw.socket, boost::asio::buffer(unmasked));
+  std::string frame = boost::beast::buffers_to_string(raw.buffer.data());
   boost::beast::error_code error;
   char chunk[64];
   while (frame.size() < 4 && !error) {
-    frame.append(chunk, socket.read_some(boost::asio::buffer(chunk), error));
+    frame.append(chunk, raw.socket.read_some(boost::asio::buffer(chunk), error));
   }
   ASSERT_GE(frame.size(), 4U);
   EXPECT_EQ(static_cast<unsigned char>(frame[0]), 0x88U);  // FIN + close

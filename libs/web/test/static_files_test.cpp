@@ -15,12 +15,15 @@ void write_file(const std::filesystem::path& path, std::string_view text) {
 }
 
 TEST(StaticFiles, ContentTypesByExtension) {
-  EXPECT_EQ(content_type_for("index.html"), "text/html; charset=utf-8");
-  EXPECT_EQ(content_type_for("js/app.js"), "text/javascript; charset=utf-8");
-  EXPECT_EQ(content_type_for("a.css"), "text/css; charset=utf-8");
-  EXPECT_EQ(content_type_for("a.svg"), "image/svg+xml");
-  EXPECT_EQ(content_type_for("a.json"), "application/json");
-  EXPECT_EQ(content_type_for("a.bin"), "application/octet-stream");
+  const std::pair<const char*, const char*> cases[] = {{"index.html", "text/html; charset=utf-8"},
+                                                       {"js/app.js", "text/javascript; charset=utf-8"},
+                                                       {"a.css", "text/css; charset=utf-8"},
+                                                       {"a.svg", "image/svg+xml"},
+                                                       {"a.json", "application/json"},
+                                                       {"a.bin", "application/octet-stream"}};
+  for (const auto& [file, type] : cases) {
+    EXPECT_EQ(content_type_for(file), type) << file;
+  }
 }
 
 TEST(StaticFiles, ServesIndexAndNestedFiles) {

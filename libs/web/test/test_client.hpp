@@ -52,6 +52,16 @@ boost::asio::ip::tcp::socket connect(boost::asio::io_context& context, std::uint
 int write_and_read_status(boost::asio::ip::tcp::socket& socket, boost::beast::flat_buffer& buffer,
                           std::string_view bytes);
 
+// A raw connection, for what no well-behaved client sends: its socket and read buffer.
+struct RawConnection {
+  explicit RawConnection(std::uint16_t port) : socket(connect(context, port)) {}
+  // Writes bytes and reads the header of the response (write_and_read_status).
+  int status(std::string_view bytes) { return write_and_read_status(socket, buffer, bytes); }
+  boost::asio::io_context context;
+  boost::asio::ip::tcp::socket socket;
+  boost::beast::flat_buffer buffer;
+};
+
 class LiveClient {
  public:
   // receive_buffer > 0: a small SO_RCVBUF, for a client that reads slowly.

@@ -4,6 +4,7 @@ namespaces with veth pairs, background processes, and plain assertions.
 Tests run as scripts under ctest; exit code 77 means "skipped" (not root,
 no namespaces), any other non-zero exit is a failure with a message.
 """
+import ctypes
 import json
 import os
 import shutil
@@ -117,6 +118,13 @@ def run_json(args, **kw):
         fail(f"output of {' '.join(args)} is not JSON ({e}):\n{proc.stdout}\n{proc.stderr}")
 
 
+def _end_with_parent():
+    """In the child before exec: SIGTERM when the test's process ends (Linux prctl
+    PR_SET_PDEATHSIG), so a test killed by ctest's timeout or by hand leaves no line running."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG = 1
+
+
 class Background:
     """A process in the background, stopped with SIGTERM (then SIGKILL)."""
 
@@ -125,7 +133,7 @@ class Background:
         print("$ " + " ".join(cmd) + " &", flush=True)
         self.log_path = log
         self.log = open(log, "w") if log else subprocess.DEVNULL
-        self.proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT)
+        self.proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT, preexec_fn=_end_with_parent)
 
     def alive(self):
         return self.proc.poll() is None

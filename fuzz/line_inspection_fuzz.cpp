@@ -1,4 +1,4 @@
-// The inspection text the cloud reads from the order service's OPC UA server
+// The inspection text and the order step the cloud reads from the order service's OPC UA server
 // (sf/line/inspection.hpp) on arbitrary bytes: a clear error or a record, and a record
 // reads back the same from its own text.
 #include <cstddef>
@@ -9,6 +9,13 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);  // NOLINT
+  if (auto step = sf::line::parse_order_step(text); step) {
+    if (sf::line::parse_order_step(sf::line::format_order_step(*step)) != step) {
+      __builtin_trap();
+    }
+  } else if (step.error().message.empty()) {
+    __builtin_trap();
+  }
   auto record = sf::line::parse_inspection(text);
   if (!record) {
     if (record.error().message.empty()) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <thread>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 
 #include "line_rig.hpp"
 #include "sf/factory/line_view.hpp"
+#include "sf/line/inspection.hpp"
 #include "sf/opcua/client/client.hpp"
 #include "sf/opcua/status_codes.hpp"
 #include "sf/testing/temp_dir.hpp"
@@ -51,11 +53,11 @@ TEST(OrderServiceConfig, MistakesNameTheirPlace) {
 
 class OrderServiceTest : public ::testing::Test {
  protected:
-  void start(std::string_view anonymous) {
+  void start(std::string_view anonymous, int wip = 0) {
     auto setup =
-        parse_order_service_config(fmt::format("opcua: {{port: 0, modes: none, anonymous: {}}}\n"
+        parse_order_service_config(fmt::format("opcua: {{port: 0, modes: none, anonymous: {}}}\nwip: {}\n"
                                                "dds: {{interface: lo, partition: order-service-test-{}}}\n",
-                                               anonymous, getpid()));
+                                               anonymous, wip, getpid()));
     ASSERT_TRUE(setup) << setup.error().describe();
     auto p = OrderServiceProcess::create(std::move(*setup), SteadyClock::instance());
     ASSERT_TRUE(p) << p.error().describe();
@@ -84,6 +86,11 @@ class OrderServiceTest : public ::testing::Test {
     return client->call_method(
         ua::NodeId(ns, ua::String("OrderService")), ua::NodeId(ns, ua::String("OrderService.SubmitOrder")),
         {ua::Variant(std::move(id)), ua::Variant(std::move(box)), ua::Variant(std::move(candy))});
+  }
+  Result<std::vector<ua::Variant>> cancel(std::string id) {
+    return client->call_method(ua::NodeId(ns, ua::String("OrderService")),
+                               ua::NodeId(ns, ua::String("OrderService.CancelOrder")),
+                               {ua::Variant(std::move(id))});
   }
   std::uint32_t counter(std::string_view name) {
     auto v = client->read_value(ua::NodeId(ns, ua::String(fmt::format("OrderService.{}", name))));
@@ -161,6 +168,57 @@ TEST_F(OrderServiceTest, AViewerMayNotOrder) {
   ASSERT_FALSE(refused);
   EXPECT_NE(refused.error().message.find("BadUserAccessDenied"), std::string::npos)
       << refused.error().message;
+}
+
+// Every step of an order is an OPC UA event of the Server object (SourceName: the order, Message:
+// the step), and CancelOrder withdraws a queued order but not one in work.
+TEST_F(OrderServiceTest, StepsAreEventsAndAQueuedOrderCanBeCancelled) {
+  start("operator", 1);  // one box on the line: the second order waits in the queue
+  std::mutex mutex;
+  std::vector<std::pair<std::string, line::OrderStep>> steps;
+  auto sub = client->create_subscription({});
+  ASSERT_TRUE(sub) << sub.error().describe();
+  auto item = client->monitor_events(*sub, ua::NodeId(0, ua::id::Server),
+                                     ua::select_event_fields({"SourceName", "Message"}),
+                                     [&](const std::vector<ua::Variant>& fields) {
+                                       const auto* source = fields.at(0).get_if<ua::String>();
+                                       const auto* message = fields.at(1).get_if<ua::LocalizedText>();
+                                       ASSERT_TRUE(source != nullptr && message != nullptr);
+                                       auto step = line::parse_order_step(message->text.view());
+                                       ASSERT_TRUE(step) << step.error().message;
+                                       std::lock_guard lock(mutex);
+                                       steps.emplace_back(source->str(), *step);
+                                     });
+  ASSERT_TRUE(item) << item.error().describe();
+  ASSERT_TRUE(submit("first", "small-box", {"gummy:1"}));
+  for (int i = 0; i < 200 && counter("InWork") == 0; ++i) {
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_TRUE(submit("second", "small-box", {"toffee:2"}));
+  for (int i = 0; i < 200 && counter("Queued") == 0; ++i) {
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_EQ(counter("Queued"), 1U);
+  ASSERT_TRUE(cancel("second"));
+  ASSERT_TRUE(cancel("first"));  // taken, refused by the loop: its box is on the way
+  auto unknown = cancel("nobody");
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.error().message.find("BadNotFound"), std::string::npos) << unknown.error().message;
+  auto seen = [&](const std::string& order, const std::string& what) {
+    std::lock_guard lock(mutex);
+    return std::any_of(steps.begin(), steps.end(),
+                       [&](const auto& s) { return s.first == order && s.second.what == what; });
+  };
+  for (int i = 0; i < 300 && !(seen("second", "cancelled") && seen("first", "cancel-refused")); ++i) {
+    std::this_thread::sleep_for(10ms);
+  }
+  EXPECT_TRUE(seen("first", "accepted"));
+  EXPECT_TRUE(seen("second", "accepted"));
+  EXPECT_TRUE(seen("second", "cancelled"));
+  EXPECT_TRUE(seen("first", "cancel-refused"));
+  EXPECT_FALSE(seen("first", "cancelled"));
+  EXPECT_EQ(counter("Cancelled"), 1U);
+  EXPECT_EQ(counter("Queued"), 0U);
 }
 
 }  // namespace

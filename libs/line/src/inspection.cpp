@@ -114,4 +114,34 @@ Result<InspectionRecord> parse_inspection(std::string_view text) {
   return r;
 }
 
+std::string format_order_step(const OrderStep& step) {
+  std::string text = step.what + ' ' + (step.machine.empty() ? std::string("-") : step.machine);
+  if (!step.detail.empty()) {
+    text += ' ' + step.detail;
+  }
+  return text;
+}
+
+Result<OrderStep> parse_order_step(std::string_view text) {
+  const auto first = text.find(' ');
+  if (first == 0 || first == std::string_view::npos) {
+    return make_error(Errc::malformed, fmt::format("order step '{}': expected '<what> <machine> <detail>'",
+                                                   text.substr(0, 80)));
+  }
+  OrderStep step;
+  step.what = std::string(text.substr(0, first));
+  const std::string_view rest = text.substr(first + 1);
+  const auto second = rest.find(' ');
+  const std::string_view machine = rest.substr(0, second);
+  if (machine.empty()) {
+    return make_error(Errc::malformed,
+                      fmt::format("order step '{}': no machine ('-' for none)", text.substr(0, 80)));
+  }
+  step.machine = machine == "-" ? std::string() : std::string(machine);
+  if (second != std::string_view::npos) {
+    step.detail = std::string(rest.substr(second + 1));
+  }
+  return step;
+}
+
 }  // namespace sf::line

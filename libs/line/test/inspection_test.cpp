@@ -60,5 +60,29 @@ TEST(Inspection, MalformedTextIsRefusedNamingWhatIsWrong) {
   }
 }
 
+TEST(OrderStep, ReadsBackWhatItWrites) {
+  const OrderStep cases[] = {
+      {"loaded", "scara-robot-1", "gummy:4 slots 0-3"},
+      {"accepted", "", "small-box with 6 candies"},
+      {"done", "", ""},
+      {"awarded", "conveyor-3", ""},
+  };
+  for (const auto& step : cases) {
+    const std::string text = format_order_step(step);
+    auto back = parse_order_step(text);
+    ASSERT_TRUE(back) << text << ": " << back.error().message;
+    EXPECT_EQ(*back, step) << text;
+  }
+  EXPECT_EQ(format_order_step({"accepted", "", "small-box"}), "accepted - small-box");
+}
+
+TEST(OrderStep, MalformedTextIsRefused) {
+  for (const char* text : {"", "accepted", " - x", "accepted  x"}) {
+    auto r = parse_order_step(text);
+    ASSERT_FALSE(r) << text;
+    EXPECT_NE(r.error().message.find("order step"), std::string::npos) << r.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace sf::line

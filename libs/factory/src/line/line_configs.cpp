@@ -196,6 +196,9 @@ std::string cloud_config_yaml(const LinePlan& plan) {
     // The order service serves None on loopback or its OPC UA network (its generated configuration); the
     // controllers their default, secured endpoints with the installation's PKI.
     y << YAML::Key << "security" << YAML::Value << (orders ? "none" : "auto");
+    if (orders) {  // every step of every order (OrderModel::raise)
+      y << YAML::Key << "events" << YAML::Value << true;
+    }
     y << YAML::Key << "subscribe" << YAML::Value << YAML::BeginSeq << YAML::Flow << YAML::BeginMap;
     y << YAML::Key << "browse_path" << YAML::Value
       << (orders ? std::string("/Objects/OrderService") : "/Objects/Machines/" + line::iri_name(p.name));

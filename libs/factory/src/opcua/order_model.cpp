@@ -1,11 +1,13 @@
 // OrderModel (order_service.hpp): the order service's counters, its latest event and the
 // SubmitOrder method on its OPC UA server.
 #include <array>
+#include <random>
 
 #include <fmt/format.h>
 
 #include "opcua/model_nodes.hpp"
 #include "sf/factory/order_service.hpp"
+#include "sf/line/inspection.hpp"
 #include "sf/opcua/node_ids.hpp"
 #include "sf/opcua/server/server.hpp"
 #include "sf/opcua/status_codes.hpp"
@@ -18,7 +20,8 @@ namespace srv = sf::opcua::server;
 namespace {
 
 constexpr std::string_view kNamespace = "urn:smartfactory:orders";
-constexpr std::array<std::string_view, 5> kCounters{"Queued", "InWork", "Done", "Failed", "Remade"};
+constexpr std::array<std::string_view, 6> kCounters{"Queued", "InWork",    "Done",
+                                                    "Failed", "Cancelled", "Remade"};
 constexpr std::array<std::string_view, 2> kTexts{"LastEvent", "LastInspection"};
 constexpr std::array<std::string_view, 2> kLeadTimes{"LeadTimeP50", "LeadTimeP99"};
 
@@ -106,6 +109,21 @@ Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agen
     return ua::StatusCode{};
   };
   SF_TRY(space.add_method(submit));
+
+  srv::MethodSpec cancel;
+  cancel.node_id = node(ns, "CancelOrder");
+  cancel.browse_name = ua::QualifiedName(ns, "CancelOrder");
+  cancel.parent = node(ns, "");
+  cancel.input_arguments = {argument("Id", ua::id::String, false, "the id of an accepted order")};
+  cancel.callback = [&agent](const ua::NodeId&, const std::vector<ua::Variant>& in,
+                             std::vector<ua::Variant>&) {
+    const auto* id = in.at(0).get_if<ua::String>();
+    if (id == nullptr) {
+      return ua::StatusCode(ua::status::BadInvalidArgument);
+    }
+    return ua::StatusCode(agent.cancel(id->str()) ? ua::status::Good : ua::status::BadNotFound);
+  };
+  SF_TRY(space.add_method(cancel));
   return {};
 }
 
@@ -113,6 +131,10 @@ Status build(srv::AddressSpace& space, std::uint16_t ns, OrderServiceAgent& agen
 
 Result<std::unique_ptr<OrderModel>> OrderModel::attach(srv::Server& server, OrderServiceAgent& agent) {
   auto m = std::unique_ptr<OrderModel>(new OrderModel());
+  std::random_device random;
+  for (auto& b : m->event_prefix_) {
+    b = static_cast<std::uint8_t>(random());
+  }
   m->server_ = &server;
   m->agent_ = &agent;
   Status built;
@@ -129,8 +151,8 @@ Result<std::unique_ptr<OrderModel>> OrderModel::attach(srv::Server& server, Orde
 void OrderModel::update() {
   const OrderServiceStatus s = agent_->status();
   const std::array<std::uint64_t, kCounters.size()> values{
-      s.count(OrderState::queued), s.count(OrderState::in_work), s.count(OrderState::done),
-      s.count(OrderState::failed), s.remade};
+      s.count(OrderState::queued), s.count(OrderState::in_work),   s.count(OrderState::done),
+      s.count(OrderState::failed), s.count(OrderState::cancelled), s.remade};
   server_->with_address_space([&](srv::AddressSpace& space) {
     for (std::size_t i = 0; i < kCounters.size(); ++i) {
       (void)space.set_value(node(ns_, kCounters[i]),
@@ -141,6 +163,29 @@ void OrderModel::update() {
     (void)space.set_value(node(ns_, "LastEvent"), ua::DataValue(ua::Variant(s.last_event)));
     (void)space.set_value(node(ns_, "LastInspection"), ua::DataValue(ua::Variant(s.last_inspection)));
   });
+}
+
+void OrderModel::raise(const OrderEvent& e, Clock::utc_time at) {
+  // BaseEventType's fields (OPC 10000-5 §6.4.2). EventId: unique per server (the historian keys
+  // events by it): this model's random prefix and a running number.
+  ua::SubscriptionService::Event event;
+  event.event_type = ns0(ua::id::BaseEventType);
+  const auto now = ua::DateTime::from_system_clock(at);
+  Bytes id(event_prefix_.begin(), event_prefix_.end());
+  for (std::uint64_t n = ++events_, i = 0; i < 8; ++i, n >>= 8U) {
+    id.push_back(static_cast<std::uint8_t>(n));
+  }
+  event.fields["EventId"] = ua::Variant(ua::ByteString(std::move(id)));
+  event.fields["EventType"] = ua::Variant(event.event_type);
+  event.fields["SourceNode"] = ua::Variant(node(ns_, ""));
+  event.fields["SourceName"] = ua::Variant(e.order);
+  event.fields["Time"] = ua::Variant(now);
+  event.fields["ReceiveTime"] = ua::Variant(now);
+  event.fields["Message"] =
+      ua::Variant(ua::LocalizedText("en", line::format_order_step({e.what, e.machine, e.detail})));
+  const bool bad = e.what == "failed" || e.what == "rejected" || e.what == "cancel-refused";
+  event.fields["Severity"] = ua::Variant(std::uint16_t{bad ? std::uint16_t{500} : std::uint16_t{100}});
+  server_->raise_event(ns0(ua::id::Server), std::move(event));
 }
 
 }  // namespace sf::factory

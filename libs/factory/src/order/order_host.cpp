@@ -18,6 +18,8 @@ std::string_view to_string(OrderState s) {
       return "done";
     case OrderState::failed:
       return "failed";
+    case OrderState::cancelled:
+      return "cancelled";
   }
   return "?";
 }
@@ -78,6 +80,23 @@ Status OrderHost::submit(Order order) {
   ++counts_[static_cast<std::size_t>(OrderState::queued)];
   queue_.push_back(id);
   emit(id, "accepted", fmt::format("{} with {} candies", r.order.box_type, r.order.total()));
+  return {};
+}
+
+Status OrderHost::cancel(const std::string& id) {
+  const auto found = records_.find(id);
+  if (found == records_.end()) {
+    return make_error(Errc::not_found, fmt::format("no order '{}'", id));
+  }
+  OrderRecord& r = found->second;
+  const auto queued = std::find(queue_.begin(), queue_.end(), id);
+  if (r.state != OrderState::queued || queued == queue_.end()) {
+    return make_error(Errc::state, fmt::format("order '{}' is {}", id, to_string(r.state)));
+  }
+  queue_.erase(queued);
+  set_state(r, OrderState::cancelled);
+  r.finished = context_.clock->now();
+  emit(id, "cancelled", "withdrawn before a box was started");
   return {};
 }
 

@@ -28,25 +28,26 @@ Result<std::unique_ptr<OrderServiceAgent>> OrderServiceAgent::create(
   a->on_event_ = std::move(on_event);
   a->started_at_ = clock.now();
   auto* self = a.get();
-  a->host_ = std::make_unique<OrderHost>(
-      ProductContext{&layout, a->decisions_.get(), &clock}, options, [self](const OrderEvent& e) {
-        {
-          std::lock_guard lock(self->mutex_);
-          self->status_.last_event = fmt::format(
-              "{:.3f} {} {} {} {}", std::chrono::duration<double>(e.at - self->started_at_).count(), e.order,
-              e.what, e.machine, e.detail);
-          // Its own variable: an inspection and the order's end come in one turn of the loop,
-          // faster than a client samples.
-          if (e.what == "inspected" && e.inspection) {
-            self->status_.last_inspection =
-                line::format_inspection(inspection_record(e, self->host_->records().at(e.order)));
-          }
-        }
-        if (self->on_event_) {
-          self->on_event_(e);
-        }
-      });
+  a->host_ = std::make_unique<OrderHost>(ProductContext{&layout, a->decisions_.get(), &clock}, options,
+                                         [self](const OrderEvent& e) { self->note(e); });
   return a;
+}
+
+void OrderServiceAgent::note(const OrderEvent& e) {
+  {
+    std::lock_guard lock(mutex_);
+    status_.last_event =
+        fmt::format("{:.3f} {} {} {} {}", std::chrono::duration<double>(e.at - started_at_).count(), e.order,
+                    e.what, e.machine, e.detail);
+    // Its own variable: an inspection and the order's end come in one turn of the loop,
+    // faster than a client samples.
+    if (e.what == "inspected" && e.inspection) {
+      status_.last_inspection = line::format_inspection(inspection_record(e, host_->records().at(e.order)));
+    }
+  }
+  if (on_event_) {
+    on_event_(e);
+  }
 }
 
 OrderServiceAgent::~OrderServiceAgent() = default;
@@ -63,14 +64,32 @@ Status OrderServiceAgent::submit(Order order) {
   return {};
 }
 
+Status OrderServiceAgent::cancel(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  if (!ids_.contains(id)) {
+    return make_error(Errc::not_found, fmt::format("no order '{}'", id));
+  }
+  cancels_.push_back(id);
+  return {};
+}
+
 void OrderServiceAgent::tick() {
   std::deque<Order> arrived;
+  std::deque<std::string> cancels;
   {
     std::lock_guard lock(mutex_);
     arrived.swap(inbox_);
+    cancels.swap(cancels_);
   }
   for (auto& o : arrived) {
     (void)host_->submit(std::move(o));  // checked in submit(); ids are unique there
+  }
+  // Before the host admits queued orders: an order still queued when the request came is
+  // withdrawn, not started.
+  for (const auto& id : cancels) {
+    if (auto cancelled = host_->cancel(id); !cancelled) {
+      note({clock_->now(), id, "cancel-refused", {}, cancelled.error().message, std::nullopt});
+    }
   }
   manager_->tick();
   planner_->tick();
@@ -90,8 +109,8 @@ std::optional<Clock::time_point> OrderServiceAgent::next_deadline() const {
 void OrderServiceAgent::publish() {
   std::lock_guard lock(mutex_);
   const std::size_t done_before = status_.count(OrderState::done);
-  for (auto state : {OrderState::queued, OrderState::in_work, OrderState::done, OrderState::failed}) {
-    status_.orders.at(static_cast<std::size_t>(state)) = host_->count(state);
+  for (std::size_t state = 0; state < kOrderStates; ++state) {
+    status_.orders.at(state) = host_->count(static_cast<OrderState>(state));
   }
   status_.remade = host_->remade();
   if (status_.count(OrderState::done) != done_before) {  // lead times change only when one is done

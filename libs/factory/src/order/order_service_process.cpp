@@ -66,6 +66,7 @@ Result<std::unique_ptr<OrderServiceProcess>> OrderServiceProcess::create(OrderSe
                                            // Every event reaches the model, so the cloud sees each step.
                                            if (raw->model_) {
                                              raw->model_->update();
+                                             raw->model_->raise(e, raw->clock_->utc_now());
                                            }
                                            if (raw->on_event_) {
                                              raw->on_event_(e);

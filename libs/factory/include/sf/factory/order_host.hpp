@@ -34,7 +34,9 @@ struct OrderHostOptions {
   OrderAgentOptions agent;
 };
 
-enum class OrderState : std::uint8_t { queued, in_work, done, failed };
+// cancelled: withdrawn by its consumer before a box was started for it.
+enum class OrderState : std::uint8_t { queued, in_work, done, failed, cancelled };
+inline constexpr std::size_t kOrderStates = 5;
 std::string_view to_string(OrderState s);
 
 struct OrderRecord {
@@ -54,6 +56,9 @@ class OrderHost {
 
   // Accepts a valid order with an id not seen before; errors say why not.
   Status submit(Order order);
+  // Withdraws a queued order (event "cancelled"); an order already in work, made or failed
+  // stays as it is (Errc::state says which), an unknown one is Errc::not_found.
+  Status cancel(const std::string& id);
   // Admits queued orders, runs due retries, follows finished products.
   void tick();
 
@@ -86,7 +91,7 @@ class OrderHost {
   std::deque<std::string> queue_;
   std::vector<std::shared_ptr<OrderAgent>> agents_;
   std::uint64_t remade_ = 0;
-  std::array<std::size_t, 4> counts_{};  // by OrderState
+  std::array<std::size_t, kOrderStates> counts_{};  // by OrderState
 };
 
 // The inspection of an "inspected" event of `record`'s order as the order service publishes it

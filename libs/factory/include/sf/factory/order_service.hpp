@@ -38,7 +38,7 @@ namespace sf::factory {
 
 // What the service's OPC UA model and status line show, copied out of the loop.
 struct OrderServiceStatus {
-  std::array<std::size_t, 4> orders{};  // by OrderState (queued, in work, done, failed)
+  std::array<std::size_t, kOrderStates> orders{};  // by OrderState (queued, in work, done, failed, cancelled)
   std::uint64_t remade = 0;
   std::array<double, 2> lead_s{};  // lead time (accepted → done) p50 and p99, of the done orders
   [[nodiscard]] std::size_t count(OrderState state) const {
@@ -65,6 +65,10 @@ class OrderServiceAgent final : public negotiation::Agent {
   // Safe from any thread: checks the order against the catalog at once and
   // hands it to the loop; the error says why it was refused.
   Status submit(Order order);
+  // Safe from any thread: asks the loop to withdraw an order not yet started. An unknown id is
+  // Errc::not_found at once; otherwise the answer comes as the order's next event, "cancelled"
+  // or "cancel-refused" (the order was started, made or failed meanwhile).
+  Status cancel(const std::string& id);
   // Safe from any thread.
   [[nodiscard]] OrderServiceStatus status() const;
   // On the loop's thread only.
@@ -74,6 +78,8 @@ class OrderServiceAgent final : public negotiation::Agent {
  private:
   OrderServiceAgent(const line::Layout& layout, const Clock& clock) : layout_(&layout), clock_(&clock) {}
   void publish();
+  // Every event of the host: the published status, then the owner's sink.
+  void note(const OrderEvent& e);
 
   const line::Layout* layout_;
   const Clock* clock_;
@@ -87,6 +93,7 @@ class OrderServiceAgent final : public negotiation::Agent {
 
   mutable std::mutex mutex_;  // guards what other threads see and send
   std::deque<Order> inbox_;
+  std::deque<std::string> cancels_;
   std::set<std::string> ids_;  // accepted so far, for duplicate ids refused at once
   OrderServiceStatus status_;
 };
@@ -95,20 +102,30 @@ class OrderServiceAgent final : public negotiation::Agent {
 //   Objects/OrderService
 //     Queued, InWork, Done, Failed, Remade (UInt32)   LeadTimeP50, LeadTimeP99 (Double, s)
 //     LastEvent, LastInspection (String; LastInspection as sf/line/inspection.hpp writes it)
+//     Queued, InWork, Done, Failed, Cancelled, Remade (UInt32)
 //     SubmitOrder(Id: String, BoxType: String, Candy: String[] "type:quantity") → OrderId: String
-// SubmitOrder answers BadInvalidArgument for an order the catalog refuses or an id taken, and
-// needs the role operator (a viewer gets BadUserAccessDenied from the server's role check).
+//     CancelOrder(Id: String): withdraws an order not yet started (its next event says whether)
+// SubmitOrder answers BadInvalidArgument for an order the catalog refuses or an id taken,
+// CancelOrder BadNotFound for an id never accepted; both need the role operator (a viewer gets
+// BadUserAccessDenied from the server's role check).
+// Every order event is also an OPC UA event of the Server object (BaseEventType, OPC 10000-5
+// §6.4.2): SourceName the order's id, Message "<what> <machine or -> <detail>" as
+// sf/line/order_step.hpp writes it, so that a client subscribed to events misses none.
 class OrderModel {
  public:
   static Result<std::unique_ptr<OrderModel>> attach(opcua::server::Server& server, OrderServiceAgent& agent);
   // Copies the agent's status into the variables (from any thread).
   void update();
+  // Raises the event as an OPC UA event at `at` (from any thread).
+  void raise(const OrderEvent& event, Clock::utc_time at);
 
  private:
   OrderModel() = default;
   opcua::server::Server* server_ = nullptr;
   OrderServiceAgent* agent_ = nullptr;
   std::uint16_t ns_ = 0;
+  std::array<std::uint8_t, 8> event_prefix_{};
+  std::atomic<std::uint64_t> events_{0};
 };
 
 // order-service.yaml (configs/order-service.yaml):

@@ -37,4 +37,18 @@ std::string format_inspection(const InspectionRecord& record);
 // Errors name the token that is wrong.
 Result<InspectionRecord> parse_inspection(std::string_view text);
 
+// One step of an order as the order service's OPC UA events carry it (Message; the order's id is
+// the SourceName): "<what> <machine or -> <detail>", e.g. "loaded scara-robot-1 gummy:4 slots
+// 0-3" or "accepted - small-box with 6 candies". `what` and `machine` have no spaces; the detail
+// is free text, maybe empty.
+struct OrderStep {
+  std::string what;     // accepted, awarded, routed, ..., done, failed, cancelled, cancel-refused
+  std::string machine;  // the machine or conveyor it concerns; empty: none
+  std::string detail;
+  friend bool operator==(const OrderStep&, const OrderStep&) = default;
+};
+
+std::string format_order_step(const OrderStep& step);
+Result<OrderStep> parse_order_step(std::string_view text);
+
 }  // namespace sf::line

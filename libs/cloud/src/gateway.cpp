@@ -260,6 +260,19 @@ LiveBus& Gateway::live() {
   return impl_->bus;
 }
 
+Result<std::vector<opcua::Variant>> Gateway::call(std::string_view server, const std::string& object_path,
+                                                  const std::string& method,
+                                                  std::vector<opcua::Variant> inputs) {
+  // The lock keeps the link alive through the call (stop() takes the links under it).
+  std::lock_guard lock(impl_->links_mutex);
+  for (auto& link : impl_->links) {
+    if (link->status().name == server) {
+      return link->call(object_path, method, std::move(inputs));
+    }
+  }
+  return make_error(Errc::not_found, fmt::format("no server '{}'", server));
+}
+
 historian::Store& Gateway::store() {
   return *impl_->store;
 }

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <optional>
 #include <unordered_set>
@@ -32,6 +33,40 @@ std::pair<std::optional<std::uint16_t>, std::string_view> split_segment(std::str
   }
   return {std::nullopt, segment};
 }
+
+}  // namespace
+
+Result<std::pair<ua::NodeId, ua::NodeClass>> resolve_browse_path(
+    ua::SyncClient& client, std::string_view path,
+    const std::function<Result<std::vector<ua::ReferenceDescription>>(const ua::NodeId&)>& browse) {
+  ua::NodeId node(0, ua::id::RootFolder);
+  ua::NodeClass node_class = ua::NodeClass::Object;
+  std::size_t start = 1;
+  while (start < path.size()) {
+    const auto end = std::min(path.find('/', start), path.size());
+    const auto [index, name] = split_segment(path.substr(start, end - start));
+    start = end + 1;
+    if (name.empty()) {
+      continue;
+    }
+    auto refs = browse ? browse(node) : client.browse_children(node);
+    if (!refs) {
+      return refs.error();
+    }
+    const auto found = std::find_if(refs->begin(), refs->end(), [&](const ua::ReferenceDescription& r) {
+      return r.browse_name.name == name && (!index || r.browse_name.namespace_index == *index);
+    });
+    if (found == refs->end()) {
+      return make_error(Errc::not_found,
+                        fmt::format("browse path '{}': no '{}' below {}", path, name, ua::to_string(node)));
+    }
+    node = found->node_id.node_id;
+    node_class = found->node_class;
+  }
+  return std::pair(node, node_class);
+}
+
+namespace {
 
 class Walker {
  public:
@@ -73,36 +108,16 @@ class Walker {
 
   // The node a browse path names, from the Root; nullopt (and a warning) when a name is missing.
   Result<std::optional<std::pair<ua::NodeId, ua::NodeClass>>> resolve_path(std::string_view path) {
-    ua::NodeId node(0, ua::id::RootFolder);
-    ua::NodeClass node_class = ua::NodeClass::Object;
-    std::size_t start = 1;
-    while (start < path.size()) {
-      const auto end = std::min(path.find('/', start), path.size());
-      const auto [index, name] = split_segment(path.substr(start, end - start));
-      start = end + 1;
-      if (name.empty()) {
-        continue;
-      }
-      auto refs = children(node);
-      if (!refs) {
-        return refs.error();
-      }
-      const ua::ReferenceDescription* found = nullptr;
-      for (const auto& r : *refs) {
-        if (r.browse_name.name == name && (!index || r.browse_name.namespace_index == *index)) {
-          found = &r;
-          break;
-        }
-      }
-      if (found == nullptr) {
-        out_.warnings.push_back(
-            fmt::format("browse path '{}': no '{}' below {}", path, name, ua::to_string(node)));
-        return std::optional<std::pair<ua::NodeId, ua::NodeClass>>{};
-      }
-      node = found->node_id.node_id;
-      node_class = found->node_class;
+    auto found =
+        resolve_browse_path(client_, path, [this](const ua::NodeId& node) { return children(node); });
+    if (!found && found.error().code == Errc::not_found) {
+      out_.warnings.push_back(found.error().message);
+      return std::optional<std::pair<ua::NodeId, ua::NodeClass>>{};
     }
-    return std::optional(std::pair(node, node_class));
+    if (!found) {
+      return found.error();
+    }
+    return std::optional(*found);
   }
 
   Status by_node(const std::string& text, unsigned depth) {

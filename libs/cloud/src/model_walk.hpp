@@ -2,8 +2,10 @@
 // Variables they name, by browsing the server's information model (OPC 10000-4 §5.8).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sf/cloud/config.hpp"
@@ -39,6 +41,13 @@ struct Discovery {
   std::vector<DiscoveredVariable> variables;  // each node once, in rule order
   std::vector<std::string> warnings;          // rules that matched nothing, nodes that failed
 };
+
+// The node a browse path names ("/Objects/Machines/M1/PackML", segments as SubscribeRule's), from
+// the Root; Errc::not_found names the missing segment. `browse` replaces client.browse_children
+// (a budget); empty: the client's.
+Result<std::pair<opcua::NodeId, opcua::NodeClass>> resolve_browse_path(
+    opcua::SyncClient& client, std::string_view path,
+    const std::function<Result<std::vector<opcua::ReferenceDescription>>(const opcua::NodeId&)>& browse = {});
 
 // Browses the model for `rules`; fails only when the connection fails (a rule that matches
 // nothing is a warning).

@@ -85,6 +85,33 @@ void ServerLink::set_phase(std::string phase, std::string error) {
   }
 }
 
+Result<std::vector<ua::Variant>> ServerLink::call(const std::string& object_path, const std::string& method,
+                                                  std::vector<ua::Variant> inputs) {
+  if (static_cast<ua::ClientState>(client_state_.load()) != ua::ClientState::Connected) {
+    return make_error(Errc::state, fmt::format("server '{}' is not connected", config_.name));
+  }
+  std::lock_guard lock(call_mutex_);
+  auto node_of = [&](const std::string& path) -> Result<ua::NodeId> {
+    if (auto known = resolved_.find(path); known != resolved_.end()) {
+      return known->second;
+    }
+    auto found = resolve_browse_path(*client_, path);
+    if (!found) {
+      return found.error();
+    }
+    return resolved_.emplace(path, found->first).first->second;
+  };
+  auto object = node_of(object_path);
+  if (!object) {
+    return object.error();
+  }
+  auto method_node = node_of(object_path + "/" + method);
+  if (!method_node) {
+    return method_node.error();
+  }
+  return client_->call_method(*object, *method_node, std::move(inputs));
+}
+
 ServerStatus ServerLink::status() const {
   std::lock_guard lock(mutex_);
   ServerStatus s;

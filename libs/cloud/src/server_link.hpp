@@ -8,6 +8,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -41,6 +42,12 @@ class ServerLink {
   void start();
   void stop();
   [[nodiscard]] ServerStatus status() const;
+  // Calls the method `method` (a browse name) of the Object at `object_path` (from the Root, as
+  // a subscribe rule's browse_path) on the connected server: its outputs, or Errc::state while
+  // not connected, not_found for a path or method the model lacks, the server's status code.
+  // Paths resolved once are remembered. Any thread; blocks for the call's round trip.
+  Result<std::vector<opcua::Variant>> call(const std::string& object_path, const std::string& method,
+                                           std::vector<opcua::Variant> inputs);
 
  private:
   // Per monitored item; touched by the client's loop thread only once setup is done.
@@ -79,6 +86,8 @@ class ServerLink {
   std::atomic<std::uint64_t> events_{0};
   std::atomic<int> client_state_{0};
   std::thread setup_thread_;
+  std::mutex call_mutex_;
+  std::map<std::string, opcua::NodeId> resolved_;  // browse path → node, of call()
 };
 
 }  // namespace sf::cloud::detail

@@ -16,6 +16,7 @@
 
 #include "sf/cloud/config.hpp"
 #include "sf/opcua/server/server.hpp"
+#include "sf/opcua/status_codes.hpp"
 #include "sf/testing/temp_dir.hpp"
 
 namespace sf::cloud::test {
@@ -28,6 +29,7 @@ class Counter {
     ++generation_;
   }
   [[nodiscard]] bool sampled() const { return sampled_.load() >= generation_.load(); }
+  [[nodiscard]] std::int64_t value() const { return value_.load(); }
   opcua::DataValue read() {
     const std::uint64_t generation = generation_.load();
     opcua::DataValue v{opcua::Variant(value_.load())};
@@ -108,6 +110,29 @@ class CounterServer {
         v.reader = [counter = counters[i]] { return counter->read(); };
         (void)space.add_variable(v);
       }
+      // Line.Set(Value: Int64) → Previous: Int64 sets the first counter (method calls through
+      // the gateway); a value that is not an Int64 is BadInvalidArgument.
+      opcua::server::MethodSpec set;
+      set.node_id = opcua::NodeId(ns, opcua::String("Line.Set"));
+      set.browse_name = opcua::QualifiedName(ns, "Set");
+      set.parent = line.node_id;
+      opcua::Argument argument;
+      argument.name = "Value";
+      argument.data_type = opcua::NodeId(0, opcua::id::Int64);
+      argument.value_rank = opcua::server::value_rank::Scalar;
+      set.input_arguments = {argument};
+      set.callback = [first = counters.empty() ? nullptr : counters[0]](const opcua::NodeId&,
+                                                                        const std::vector<opcua::Variant>& in,
+                                                                        std::vector<opcua::Variant>& out) {
+        const auto* value = in.empty() ? nullptr : in[0].get_if<std::int64_t>();
+        if (value == nullptr || first == nullptr) {
+          return opcua::StatusCode(opcua::status::BadInvalidArgument);
+        }
+        out.emplace_back(first->value());
+        first->set(*value);
+        return opcua::StatusCode{};
+      };
+      (void)space.add_method(set);
     });
     ok_ = server_->start().ok();
   }

@@ -346,6 +346,47 @@ TEST(GatewayErrors, UnreachableServersAreRetriedWhileOthersWork) {
   (*gateway)->stop();
 }
 
+// The dashboard's commands go through the gateway's connections: a method by the browse path of
+// its Object and its browse name.
+TEST(GatewayCall, AMethodIsCalledOnTheNamedServer) {
+  TempDir dir;
+  auto counter = std::make_shared<Counter>();
+  CounterServer server(0, {counter});
+  ASSERT_TRUE(server.ok());
+  auto gateway = Gateway::create(
+      test::sqlite_gateway(dir, server_config("line", "opc.tcp://127.0.0.1:" + std::to_string(server.port()),
+                                              {path_rule("/Objects/Line")})));
+  ASSERT_TRUE(gateway) << gateway.error().describe();
+  ASSERT_TRUE((*gateway)->start().ok());
+  ASSERT_TRUE(eventually([&] { return (*gateway)->status().servers[0].phase == "subscribed"; }));
+  counter->set(5);
+  auto out = (*gateway)->call("line", "/Objects/Line", "Set", {opcua::Variant(std::int64_t{42})});
+  ASSERT_TRUE(out) << out.error().describe();
+  ASSERT_EQ(out->size(), 1U);
+  EXPECT_EQ(*out->at(0).get_if<std::int64_t>(), 5);
+  EXPECT_EQ(counter->value(), 42);
+  // Twice: the resolved path is remembered, the call made again.
+  ASSERT_TRUE((*gateway)->call("line", "/Objects/Line", "Set", {opcua::Variant(std::int64_t{43})}));
+  EXPECT_EQ(counter->value(), 43);
+
+  auto bad = (*gateway)->call("line", "/Objects/Line", "Set", {opcua::Variant(std::string("x"))});
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("BadInvalidArgument"), std::string::npos) << bad.error().message;
+  auto no_method = (*gateway)->call("line", "/Objects/Line", "Explode", {});
+  ASSERT_FALSE(no_method);
+  EXPECT_EQ(no_method.error().code, Errc::not_found);
+  EXPECT_NE(no_method.error().message.find("Explode"), std::string::npos);
+  auto no_server = (*gateway)->call("other", "/Objects/Line", "Set", {});
+  ASSERT_FALSE(no_server);
+  EXPECT_EQ(no_server.error().code, Errc::not_found);
+  server.stop();
+  ASSERT_TRUE(eventually([&] { return !(*gateway)->status().servers[0].connected; }));
+  auto away = (*gateway)->call("line", "/Objects/Line", "Set", {opcua::Variant(std::int64_t{1})});
+  ASSERT_FALSE(away);
+  EXPECT_EQ(away.error().code, Errc::state);
+  (*gateway)->stop();
+}
+
 TEST(GatewayErrors, AnUnusableHistorianIsRefusedAtCreate) {
   GatewayConfig config;
   config.historian.url = "sqlite:/nonexistent/dir/h.db";

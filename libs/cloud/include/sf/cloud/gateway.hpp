@@ -89,6 +89,12 @@ class Gateway {
   [[nodiscard]] GatewayStatus status() const;
   LiveBus& live();
   historian::Store& store();
+  // Calls a method on the server named `server` (ServerConfig::name): the Object by its browse
+  // path from the Root and the method by its browse name, e.g. ("line-1",
+  // "/Objects/OrderService", "SubmitOrder", ...). Errc::not_found for an unknown server; else
+  // as the server answers (Errc::state while it is not connected). Any thread; blocks.
+  Result<std::vector<opcua::Variant>> call(std::string_view server, const std::string& object_path,
+                                           const std::string& method, std::vector<opcua::Variant> inputs);
   // The knowledge loop when the configuration has one (alarms, its status); else null.
   [[nodiscard]] const KnowledgeLoop* knowledge() const;
 

@@ -17,6 +17,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kSecurity
     {"X-Frame-Options", "DENY"},
 }};
 
+}  // namespace
+
 Result<Request> to_request(BeastRequest& message) {
   auto target = parse_target(std::string_view(message.target().data(), message.target().size()));
   if (!target) {
@@ -33,6 +35,8 @@ Result<Request> to_request(BeastRequest& message) {
   request.body = std::move(message.body());
   return request;
 }
+
+namespace {
 
 Response static_response(const Site& site, const Request& request) {
   const bool readable = request.method == "GET" || request.method == "HEAD";

@@ -28,6 +28,9 @@ struct Site {
 // A parser for one request, holding the configured header and body limits (RFC 9112 §2.3).
 void configure_parser(RequestParser& parser, const ServerConfig& config);
 
+// A Beast request as a Request (the body moved out); errors for a target we do not accept.
+Result<Request> to_request(BeastRequest& message);
+
 // The response to a request that could not be parsed: 413, 431 or 400.
 Response parse_error_response(const beast::error_code& error);
 

@@ -96,12 +96,32 @@ void HttpSession::on_read(const beast::error_code& error) {
     return;
   }
   if (is_live_upgrade(state_->config, parser_->get())) {
-    auto live =
-        std::make_shared<LiveSession>(std::move(stream_), state_->hub, state_->config, std::move(slot_));
-    live->run(parser_->release());
+    upgrade();
     return;
   }
   write(answer(Site{state_->config, state_->router}, parser_->release()));
+}
+
+void HttpSession::upgrade() {
+  BeastRequest request = parser_->release();
+  TopicFilter filter;
+  if (state_->config.live_access) {
+    BeastRequest copy = request;
+    auto decoded = to_request(copy);
+    if (!decoded) {
+      write(to_beast(error_response(400, decoded.error().message), request.version(), false, false));
+      return;
+    }
+    auto access = state_->config.live_access(*decoded);
+    if (auto* refused = std::get_if<Response>(&access)) {
+      write(to_beast(std::move(*refused), request.version(), false, false));
+      return;
+    }
+    filter = std::get<TopicFilter>(std::move(access));
+  }
+  auto live = std::make_shared<LiveSession>(std::move(stream_), state_->hub, state_->config, std::move(slot_),
+                                            std::move(filter));
+  live->run(request);
 }
 
 void HttpSession::write(BeastResponse response) {

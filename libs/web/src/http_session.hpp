@@ -38,6 +38,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void read_body();
   void on_read(const beast::error_code& error);
   void write(BeastResponse response);
+  // The live endpoint's upgrade: ServerConfig::live_access decides, then the LiveSession takes
+  // the connection.
+  void upgrade();
   void linger();
   void drain();
   void close();

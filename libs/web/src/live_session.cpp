@@ -24,12 +24,13 @@ std::shared_ptr<const std::string> dump(const nlohmann::json& message) {
 }  // namespace
 
 LiveSession::LiveSession(beast::tcp_stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
-                         std::shared_ptr<ConnectionSlot> slot)
+                         std::shared_ptr<ConnectionSlot> slot, TopicFilter filter)
     : ws_(std::move(stream)),
       hub_(std::move(hub)),
       config_(config),
       slot_(std::move(slot)),
-      id_(hub_->next_id()) {}
+      id_(hub_->next_id()),
+      filter_(std::move(filter)) {}
 
 void LiveSession::run(const beast::http::request<beast::http::string_body>& request) {
   beast::get_lowest_layer(ws_).expires_never();  // the WebSocket layer keeps its own timeouts
@@ -80,11 +81,14 @@ void LiveSession::handle_text(const std::string& text) {
   }
   const bool subscribe = request->kind == LiveRequest::Kind::subscribe;
   nlohmann::json current = nlohmann::json::array();
+  nlohmann::json refused = nlohmann::json::array();
   bool over_limit = false;
   {
     std::lock_guard lock(mutex_);
     for (const auto& topic : request->topics) {
-      if (!subscribe) {
+      if (subscribe && filter_ && !filter_(topic)) {
+        refused.push_back(topic);
+      } else if (!subscribe) {
         topics_.erase(topic);
         pending_.erase(topic);
         std::erase(pending_order_, topic);
@@ -97,6 +101,9 @@ void LiveSession::handle_text(const std::string& text) {
     for (const auto& topic : topics_) {
       current.push_back(topic);
     }
+  }
+  if (!refused.empty()) {
+    reply({{"error", "not allowed"}, {"topics", std::move(refused)}});
   }
   if (over_limit) {
     reply({{"error", "topic limit reached"}, {"limit", config_.live_topic_limit}});

@@ -28,8 +28,9 @@ class LiveHub;
 
 class LiveSession : public std::enable_shared_from_this<LiveSession> {
  public:
+  // filter: the topics this client may subscribe to (empty: all).
   LiveSession(boost::beast::tcp_stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
-              std::shared_ptr<ConnectionSlot> slot);
+              std::shared_ptr<ConnectionSlot> slot, TopicFilter filter = {});
 
   // Completes the opening handshake (RFC 6455 §4.2.2) for the upgrade request.
   void run(const boost::beast::http::request<boost::beast::http::string_body>& request);
@@ -57,6 +58,7 @@ class LiveSession : public std::enable_shared_from_this<LiveSession> {
 
   mutable std::mutex mutex_;
   std::set<std::string> topics_;
+  TopicFilter filter_;
   std::deque<std::string> pending_order_;  // topics with a queued value, oldest first
   std::map<std::string, std::shared_ptr<const std::string>> pending_;
   std::deque<std::shared_ptr<const std::string>> replies_;  // answers to the client's own messages, in order

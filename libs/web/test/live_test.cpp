@@ -55,6 +55,35 @@ TEST_F(LiveTest, SubscribedClientsReceiveTheirTopicsOnly) {
   EXPECT_EQ(stats.live_clients[0].topics, 2U);
 }
 
+// live_access decides on the upgrade request: a refusal is the response instead of the upgrade;
+// an accepted client subscribes only to the topics its filter allows.
+TEST_F(LiveTest, AccessIsDecidedOnTheUpgradeAndTopicsAreFiltered) {
+  ServerConfig config;
+  config.live_access = [](const Request& upgrade) -> LiveAccess {
+    const auto cookie = upgrade.headers.get("Cookie");
+    if (!cookie || *cookie != "who=alice") {
+      return error_response(401, "log in first");
+    }
+    return TopicFilter([](std::string_view topic) { return topic == "order/alice-1" || topic == "catalog"; });
+  };
+  server_->stop();
+  start(std::move(config));
+  const std::string refused = testing::raw_exchange(
+      port_,
+      "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
+  EXPECT_EQ(testing::raw_status(refused), 401) << refused;
+  EXPECT_NE(refused.find("log in first"), std::string::npos) << refused;
+  LiveClient alice(port_, 0, "who=alice");
+  alice.send(R"({"subscribe": ["order/alice-1", "order/bob-1", "alarms"]})");
+  EXPECT_EQ(alice.receive(),
+            (nlohmann::json{{"error", "not allowed"}, {"topics", {"order/bob-1", "alarms"}}}));
+  EXPECT_EQ(alice.receive(), (nlohmann::json{{"subscribed", {"order/alice-1"}}}));
+  server_->publish("order/bob-1", 1);
+  server_->publish("order/alice-1", 2);
+  EXPECT_EQ(alice.receive(), (nlohmann::json{{"topic", "order/alice-1"}, {"value", 2}}));
+}
+
 TEST_F(LiveTest, SlowClientGetsTheLatestValueAndDropsAreCounted) {
   LiveClient slow(port_, 4096);
   slow.send(R"({"subscribe": ["series/axis"]})");

@@ -67,8 +67,14 @@ int write_and_read_status(tcp::socket& socket, beast::flat_buffer& buffer, std::
   return static_cast<int>(response.result_int());
 }
 
-LiveClient::LiveClient(std::uint16_t port, int receive_buffer)
+LiveClient::LiveClient(std::uint16_t port, int receive_buffer, const std::string& cookie)
     : ws_(connect(context_, port, receive_buffer)) {
+  if (!cookie.empty()) {
+    ws_.set_option(
+        beast::websocket::stream_base::decorator([cookie](beast::websocket::request_type& request) {
+          request.set(beast::http::field::cookie, cookie);
+        }));
+  }
   ws_.handshake("127.0.0.1", "/api/live");
 }
 

@@ -65,7 +65,8 @@ struct RawConnection {
 class LiveClient {
  public:
   // receive_buffer > 0: a small SO_RCVBUF, for a client that reads slowly.
-  explicit LiveClient(std::uint16_t port, int receive_buffer = 0);
+  // cookie: a Cookie header field for the handshake.
+  explicit LiveClient(std::uint16_t port, int receive_buffer = 0, const std::string& cookie = {});
   void send(std::string_view text);
   void send_binary(std::string_view bytes);
   // The next message as JSON; throws on a closed connection.

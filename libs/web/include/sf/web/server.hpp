@@ -9,8 +9,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +23,12 @@
 
 namespace sf::web {
 
+// Which topics one live client may subscribe to.
+using TopicFilter = std::function<bool(std::string_view topic)>;
+// The decision on a live endpoint's upgrade request (its cookies, its Origin): the client's topic
+// filter, or the response sent instead of the upgrade (401, 403).
+using LiveAccess = std::variant<TopicFilter, Response>;
+
 struct ServerConfig {
   std::string host = "127.0.0.1";
   std::uint16_t port = 0;  // 0: any free port, reported by start()
@@ -28,6 +37,9 @@ struct ServerConfig {
   std::filesystem::path static_root;
   // The WebSocket endpoint of live updates; empty: none.
   std::string live_path = "/api/live";
+  // Who may open the live endpoint and subscribe to what; empty: everyone, every topic. A topic
+  // the filter refuses is answered {"error": "not allowed", "topics": [...]} and not subscribed.
+  std::function<LiveAccess(const Request& upgrade)> live_access;
 
   // Limits: what a peer may make the server hold.
   std::size_t body_limit = 64UL * 1024UL;          // larger request bodies: 413 (RFC 9110 §15.5.14)

@@ -138,7 +138,8 @@ inline constexpr double kPerformanceLimit = 1.0;
 
 // The OEE of one machine over `range`. A factor that is 0 makes OEE 0 even when another factor is
 // undefined (a machine planned busy that never executed, or one that executed and made nothing,
-// has OEE 0 whatever the quality of its non-existent products).
+// has OEE 0 whatever the quality of its non-existent products). An empty range (to <= from) has
+// no data.
 MachineOee machine_oee(const MachineHistory& history, TimeRange range, std::optional<double> ideal_cycle_s);
 
 // Machine (OPC UA model name, line::iri_name of the layout name) → ideal cycle time, seconds per

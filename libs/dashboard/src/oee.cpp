@@ -138,7 +138,7 @@ TimeElement time_element(std::optional<PackMLState> state, std::optional<PackMLM
     return TimeElement::unknown;
   }
   if (mode == PackMLMode::Maintenance) {
-    return TimeElement::planned_downtime;  // OPC 30050 §6.3.3 UnitMode: planned maintenance
+    return TimeElement::planned_downtime;  // OPC 30050 §6.5.2, OPC 30060 §11.8: planned maintenance
   }
   switch (*state) {
     case PackMLState::Execute:

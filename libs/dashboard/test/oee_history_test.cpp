@@ -75,7 +75,7 @@ class OeeHistoryTest : public ::testing::Test {
 };
 
 // The hand computation of oee_test.cpp (ScriptedRunEqualsTheHandComputation) with the
-// default layout's uploader cycle_s of 1.5 s as PRU: availability 600 / 860; performance
+// default layout's uploader cycle_s of 1.5 s as PRI: availability 600 / 860; performance
 // 1.5 × 210 / 600 = 0.525; quality 200 / 210; OEE = 1.5 × 200 / 860 = 0.3488372….
 TEST_F(OeeHistoryTest, ScriptedRunFromTheHistorian) {
   store_scripted_run();

@@ -36,9 +36,9 @@ Micros secs(std::int64_t s) {
 //   PQ                ProdProcessedCount 40 at −50 s … 250 at 840 s: 250 − 40 = 210
 //   SQ                ProdDefectiveCount 2 at −50 s … 12 at 840 s: 12 − 2 = 10;  GQ = 200
 //   availability      600 / 860 = 0.6976744…
-//   performance       PRU × PQ / APT = 2 s × 210 / 600 s = 0.7
+//   performance       PRI × PQ / APT = 2 s × 210 / 600 s = 0.7
 //   quality           200 / 210 = 0.9523809…
-//   OEE               0.6976744 × 0.7 × 0.9523809 = 0.4651162…  (= PRU × GQ / PBT = 400 / 860)
+//   OEE               0.6976744 × 0.7 × 0.9523809 = 0.4651162…  (= PRI × GQ / PBT = 400 / 860)
 TEST(Oee, ScriptedRunEqualsTheHandComputation) {
   const MachineOee m = machine_oee(test::scripted_run(), seconds(0, 1000), 2.0);
   ASSERT_FALSE(m.no_data);

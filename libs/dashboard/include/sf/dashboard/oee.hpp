@@ -3,14 +3,14 @@
 // ISO 22400-2:2014 (work unit KPIs "Availability", "Effectiveness", "Quality ratio" and
 // "OEE index"; time and quantity elements):
 //
-//   PBT  planned busy time        the range minus planned downtime and minus time of unknown state
-//   APT  actual production time   time in Execute (in Production mode)
-//   PQ   produced quantity        increments of Admin.ProdProcessedCount
-//   SQ   scrap quantity           increments of Admin.ProdDefectiveCount
-//   GQ   good quantity            PQ − SQ
-//   PRU  planned run time / unit  the machine's ideal cycle time (an input)
+//   PBT  planned busy time         the range minus planned downtime and minus unknown time
+//   APT  actual production time    time in Execute (in Production mode)
+//   PQ   produced quantity         increments of Admin.ProdProcessedCount
+//   SQ   scrap quantity            increments of Admin.ProdDefectiveCount
+//   GQ   good quantity             PQ − SQ
+//   PRI  planned runtime per item  the machine's ideal cycle time (an input)
 //
-//   availability = APT / PBT      performance = PRU × PQ / APT      quality = GQ / PQ
+//   availability = APT / PBT    performance ("effectiveness") = PRI × PQ / APT    quality = GQ / PQ
 //   OEE = availability × performance × quality
 //
 // Which state's time counts where (time_element()):
@@ -25,11 +25,12 @@
 //                              Stopping, Completing), setup time in ISO 22400 terms.
 //   planned downtime:          outside PBT. Stopped, Idle, Complete: the unit has not been
 //                              asked to produce (no Start, or its run completed), so it is not
-//                              planned busy. Any state in Maintenance mode: OPC 30050 §6.3.3
-//                              UnitMode "Maintenance … shall be utilized to document planned
-//                              maintenance", which ISO 22400-2 keeps out of busy time (APMT).
-//                              Manual mode ("fault diagnosis of unplanned technical
-//                              intervention") is busy, not producing, whatever the state.
+//                              planned busy. Any state in Maintenance mode (UnitModeCurrent 2,
+//                              OPC 30050 §6.5.2), which PackML "shall [use] to document planned
+//                              maintenance occurrence and duration" (its mode descriptions as
+//                              OPC 30060 §11.8 gives them) and ISO 22400-2 keeps out of busy
+//                              time (APMT). Manual mode (3, "fault diagnosis of unplanned
+//                              technical intervention") is busy, not producing, in any state.
 //   unknown:                   Undefined, a sample with a Bad status, and time before the first
 //                              state sample: no data, counted in none of the above.
 //
@@ -120,11 +121,11 @@ struct MachineOee {
   std::optional<std::uint64_t> produced;   // PQ; nullopt: no counter data
   std::optional<std::uint64_t> defective;  // SQ
   std::optional<std::uint64_t> good;       // GQ (PQ − SQ, at least 0)
-  std::optional<double> ideal_cycle_s;     // PRU
+  std::optional<double> ideal_cycle_s;     // PRI
   // nullopt: undefined (a zero denominator or a missing element), never a zero standing in.
   std::optional<double> availability;          // PBT = 0: undefined
   std::optional<double> performance;           // clamped to 1, see performance_measured
-  std::optional<double> performance_measured;  // PRU × PQ / APT as measured; APT = 0: undefined
+  std::optional<double> performance_measured;  // PRI × PQ / APT as measured; APT = 0: undefined
   std::optional<double> quality;               // PQ = 0: undefined (nothing made, nothing to judge)
   std::optional<double> oee;
 };

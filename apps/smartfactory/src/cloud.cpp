@@ -1,6 +1,7 @@
 // `smartfactory cloud --config cloud.yaml`: the cloud gateway (paper §V.B, Fig. 6) — an OPC UA
 // client of every shop-floor server writing to the historian, with an aggregating OPC UA server
-// for history. Runs until signalled and shows a status line; the cloud module does the work.
+// for history — and the dashboard's web server on top of it (libs/dashboard). Runs until
+// signalled and shows a status line; the cloud and dashboard modules do the work.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -14,6 +15,10 @@
 #include "opcua_security.hpp"
 #include "sf/cloud/config.hpp"
 #include "sf/cloud/gateway.hpp"
+#include "sf/line/layout.hpp"
+#ifdef SF_HAVE_DASHBOARD
+#include "sf/dashboard/dashboard.hpp"
+#endif
 
 namespace sf::app {
 namespace {
@@ -25,7 +30,44 @@ struct CloudOptions {
   double status_interval_s = 5;
   double duration_s = 0;
   int aggregating_port = -1;  // -1: as the config says
+  int http_port = 8080;       // -1: no web server
+  std::string http_host = "127.0.0.1";
+  std::string web_users;  // empty: the aggregating server's users file
+  std::string web_root = SF_WEB_ROOT;
 };
+
+#ifdef SF_HAVE_DASHBOARD
+// The dashboard on the gateway (its layout: the knowledge loop's, else the built-in one); null
+// when it is off or cannot start (said on stderr).
+Result<std::unique_ptr<dashboard::Dashboard>> start_dashboard(const CloudOptions& o, cloud::Gateway& gateway,
+                                                              const line::Layout& layout,
+                                                              const std::string& users) {
+  if (o.http_port < 0) {
+    return std::unique_ptr<dashboard::Dashboard>{};
+  }
+  if (users.empty()) {
+    std::fprintf(stderr,
+                 "cloud: web dashboard off: no users file (--web-users FILE, or aggregating_server.users)\n");
+    return std::unique_ptr<dashboard::Dashboard>{};
+  }
+  dashboard::DashboardConfig c;
+  c.http.host = o.http_host;
+  c.http.port = static_cast<std::uint16_t>(o.http_port);
+  c.http.threads = 2;
+  c.http.static_root = o.web_root;
+  c.users = users;
+  auto d = dashboard::Dashboard::create(gateway, layout, std::move(c));
+  if (!d) {
+    return d.error();
+  }
+  auto port = (*d)->start();
+  if (!port) {
+    return Error(port.error()).with_context(fmt::format("web server on {}:{}", o.http_host, o.http_port));
+  }
+  std::printf("dashboard on http://%s:%u/\n", o.http_host.c_str(), *port);
+  return d;
+}
+#endif
 
 std::string status_line(const cloud::GatewayStatus& s, double samples_per_s) {
   std::size_t connected = 0;
@@ -100,6 +142,14 @@ int run_cloud(const CloudOptions& o) {
     config->aggregating_server.port = static_cast<std::uint16_t>(o.aggregating_port);
   }
   const std::string pki = config->pki;
+  const std::string users = o.web_users.empty() ? config->aggregating_server.users : o.web_users;
+  auto layout = config->knowledge && !config->knowledge->layout.empty()
+                    ? line::load_layout(config->knowledge->layout)
+                    : line::default_layout();
+  if (!layout) {
+    std::cerr << "cloud: layout: " << layout.error().describe() << "\n";
+    return kExitUsage;
+  }
   auto gateway = cloud::Gateway::create(std::move(*config), security_hooks(pki));
   if (!gateway) {
     std::cerr << "cloud: " << gateway.error().describe() << "\n";
@@ -117,6 +167,14 @@ int run_cloud(const CloudOptions& o) {
   } else {
     std::printf("gateway running\n");
   }
+#ifdef SF_HAVE_DASHBOARD
+  auto web = start_dashboard(o, **gateway, *layout, users);
+  if (!web) {
+    std::cerr << "cloud: " << web.error().describe() << "\n";
+    (*gateway)->stop();
+    return kExitFailure;
+  }
+#endif
   std::fflush(stdout);
   const auto start = std::chrono::steady_clock::now();
   auto last = start;
@@ -142,6 +200,11 @@ int run_cloud(const CloudOptions& o) {
       last = now;
     }
   }
+#ifdef SF_HAVE_DASHBOARD
+  if (*web) {
+    (*web)->stop();
+  }
+#endif
   (*gateway)->stop();
   const auto s = (*gateway)->status();
   std::fprintf(stderr, "cloud: stopped; %llu samples received, %llu written, %llu buffered records left\n",
@@ -170,6 +233,18 @@ void register_cloud(CLI::App& app, CommandResult& result) {
   cmd->add_option(
       "--aggregating-port", o->aggregating_port,
       "Run the aggregating OPC UA server on this port (0 = any free port) whatever the config says");
+#ifdef SF_HAVE_DASHBOARD
+  cmd->add_option("--http", o->http_port,
+                  "The dashboard's web server (REST API, live WebSocket, pages) on this port; 0 = any free "
+                  "port, -1 = off. The URL is printed on stdout")
+      ->capture_default_str();
+  cmd->add_option("--http-host", o->http_host, "Address the web server listens on")->capture_default_str();
+  cmd->add_option(
+      "--web-users", o->web_users,
+      "Users of the dashboard (`smartfactory opcua users` file; roles consumer, viewer, operator, "
+      "engineer, admin); default: the aggregating server's users file");
+  cmd->add_option("--web-root", o->web_root, "Directory of the dashboard's pages")->capture_default_str();
+#endif
   cmd->footer(
       "cloud.yaml:\n"
       "  historian: {url: 'sqlite:history.db', buffer: history.buffer}\n"
@@ -182,7 +257,8 @@ void register_cloud(CLI::App& app, CommandResult& result) {
       "  aggregating_server: {port: 4850, security: 'sign,encrypt'}\n"
       "  pki: DIR                         # default: the one `opcua pki` uses\n"
       "  knowledge: {due_after_s: 900}    # alarms from the rules (built-in ontology, rules, layout)\n"
-      "See docs/cloud.md for every setting.");
+      "See docs/cloud.md for every setting; docs/dashboard.md for the web API "
+      "(libs/dashboard/openapi.yaml).");
   cmd->callback([o, &result] { result.exit_code = run_cloud(*o); });
 }
 

@@ -55,7 +55,8 @@ Result<std::string> file_or(const std::filesystem::path& file, std::string_view 
 }  // namespace
 
 // Alarms go to the historian as events of the server "knowledge" (through the writer, as the
-// servers' events do) and to the log.
+// servers' events do), to the live bus (applications follow them as they follow servers'
+// events) and to the log.
 Status Gateway::Impl::start_knowledge(const KnowledgeConfig& k) {
   auto layout = k.layout.empty() ? line::default_layout() : line::load_layout(k.layout);
   if (!layout) {
@@ -71,10 +72,12 @@ Status Gateway::Impl::start_knowledge(const KnowledgeConfig& k) {
   o.rules = std::move(*rules);
   o.rules_name = k.rules.empty() ? "rules/candy-factory.rules" : k.rules.string();
   o.due_after = k.due_after;
-  auto loop = KnowledgeLoop::create(*layout, o, [w = writer.get()](const Alarm& a) {
+  auto loop = KnowledgeLoop::create(*layout, o, [w = writer.get(), b = &bus](const Alarm& a) {
     log::get("knowledge")
         ->warn("{} {}: {} (rule {})", a.active ? "alarm" : "cleared", a.entity, a.message, a.rule);
-    w->push(alarm_event(a, kKnowledgeServer));
+    auto event = alarm_event(a, kKnowledgeServer);
+    b->publish(event);
+    w->push(std::move(event));
   });
   if (!loop) {
     return loop.error().with_context("knowledge");

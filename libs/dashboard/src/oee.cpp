@@ -2,6 +2,7 @@
 #include "sf/dashboard/oee.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -232,10 +233,8 @@ Result<LineOee> line_oee(std::vector<MachineOee> machines, std::string_view cons
   }
   if (pick != nullptr) {
     out.constraint = pick->machine;
-    out.availability = pick->availability;
-    out.performance = pick->performance;
-    out.quality = pick->quality;
-    out.oee = pick->oee;
+    std::tie(out.availability, out.performance, out.quality, out.oee) =
+        std::tie(pick->availability, pick->performance, pick->quality, pick->oee);
   }
   return out;
 }

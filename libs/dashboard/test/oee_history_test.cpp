@@ -43,12 +43,7 @@ class OeeHistoryTest : public ::testing::Test {
 
   void store(historian::SeriesId id, Timestamp t, std::int64_t v,
              historian::StatusCode status = historian::kGood) {
-    Sample s;
-    s.series = id;
-    s.source_time = t;
-    s.server_time = t;
-    s.status = status;
-    s.value = v;
+    const Sample s{id, t, t, 0, status, v};
     ASSERT_TRUE(store_->append(std::span(&s, 1)));
   }
 

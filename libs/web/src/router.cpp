@@ -102,4 +102,17 @@ std::optional<Response> Router::dispatch(Request& request) const {
   return response;
 }
 
+std::vector<std::pair<std::string, std::string>> Router::routes() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& r : routes_) {
+    std::string pattern;
+    for (const auto& s : r.segments) {
+      pattern += '/';
+      pattern += s.parameter ? '{' + s.text + '}' : s.text;
+    }
+    out.emplace_back(r.method, pattern.empty() ? "/" : pattern);
+  }
+  return out;
+}
+
 }  // namespace sf::web

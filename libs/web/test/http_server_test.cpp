@@ -9,7 +9,7 @@
 
 #include "sf/testing/temp_dir.hpp"
 #include "sf/web/server.hpp"
-#include "test_client.hpp"
+#include "sf/web/testing/client.hpp"
 
 namespace sf::web {
 namespace {

@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "sf/web/server.hpp"
-#include "test_client.hpp"
+#include "sf/web/testing/client.hpp"
 
 namespace sf::web {
 namespace {

@@ -2,6 +2,8 @@
 // the values the controller's thread publishes written into them.
 #include "sf/factory/machine_model.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "opcua/model_layout.hpp"
@@ -239,6 +241,26 @@ void MachineModel::apply(srv::AddressSpace& space, const std::vector<ModelValue>
       logger->warn("machine {}: {}: {}", name_, v.name, written.error().message);
     }
   }
+}
+
+std::string method_object_path(PackMLCommand command) {
+  for (const auto& row : model::kMethods) {
+    if (row.command == command) {
+      std::string path(row.object);
+      std::replace(path.begin(), path.end(), '.', '/');
+      return path;
+    }
+  }
+  return {};
+}
+
+std::optional<PackMLCommand> packml_command(std::string_view name) {
+  for (const auto& row : model::kMethods) {
+    if (to_string(row.command) == name) {
+      return row.command;
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace sf::factory

@@ -1,6 +1,7 @@
 #include "sf/factory/order_agent.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "sf/factory/conveying.hpp"
 #include "sf/factory/machine.hpp"
@@ -131,7 +132,15 @@ void OrderAgent::begin_step() {
 void OrderAgent::on_confirmed(const cnp::Conversation& c) {
   machine_ = c.contractor;
   target_ = station_of(machine_);
-  emit("awarded", machine_, fmt::format("{} (round {})", c.operation, c.round));
+  // The Contract Net of the step in one line: the round and the bids it was awarded on (the
+  // cloud shows an order's negotiation from these).
+  std::vector<std::string> bids;
+  for (const auto& [bidder, bid] : c.bids) {
+    bids.push_back(fmt::format("{} cost {:.2f} queue {}", bidder, bid.cost, bid.queue_length));
+  }
+  emit("awarded", machine_,
+       fmt::format("{} (round {}; bids: {})", c.operation, c.round,
+                   bids.empty() ? "-" : fmt::format("{}", fmt::join(bids, ", "))));
   // The uploader puts the box where it stands; every other machine needs it brought.
   if (steps_[step_].type != kUpload && !moving_ && location_ != target_) {
     route_to_machine();

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace sf::factory {
 
@@ -79,7 +80,13 @@ Status OrderHost::submit(Order order) {
   r.accepted = context_.clock->now();
   ++counts_[static_cast<std::size_t>(OrderState::queued)];
   queue_.push_back(id);
-  emit(id, "accepted", fmt::format("{} with {} candies", r.order.box_type, r.order.total()));
+  // The detail carries the whole order ("small-box gummy:4,toffee:2"): a client that sees only
+  // the events (the cloud's order book) knows what was ordered.
+  std::vector<std::string> lines;
+  for (const auto& l : r.order.lines) {
+    lines.push_back(fmt::format("{}:{}", l.candy, l.quantity));
+  }
+  emit(id, "accepted", fmt::format("{} {}", r.order.box_type, fmt::join(lines, ",")));
   return {};
 }
 
@@ -121,6 +128,7 @@ void OrderHost::tick() {
 void OrderHost::admit(OrderRecord& r) {
   ++r.attempts;
   set_state(r, OrderState::in_work);
+  emit(r.order.id, "started", fmt::format("attempt {}", r.attempts));
   auto agent = OrderAgent::create(r.order, fmt::format("{}.{}", r.order.id, r.attempts), context_,
                                   options_.agent, sink_);
   agents_.push_back(agent);

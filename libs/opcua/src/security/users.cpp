@@ -25,6 +25,10 @@ std::vector<Role> make_builtin_roles() {
       Role{"viewer", {"*"}, {}, {}},
       Role{"operator", {"*"}, {outside_ns0, "*"}, {outside_ns0, "*"}},
       Role{"engineer", {"*"}, {"*"}, {"*"}},
+      // The cloud's web roles (libs/dashboard sessions.hpp): a consumer orders through the web
+      // only and reads nothing on a server; an admin may all an engineer may.
+      Role{"consumer", {}, {}, {}},
+      Role{"admin", {"*"}, {"*"}, {"*"}},
   };
 }
 

@@ -23,10 +23,11 @@
 
 namespace sf::dashboard {
 
-inline constexpr std::string_view kStateCurrent = "PackML/Status/StateCurrent";
-inline constexpr std::string_view kUnitModeCurrent = "PackML/Status/UnitModeCurrent";
-inline constexpr std::string_view kProdProcessedCount = "PackML/Admin/ProdProcessedCount";
-inline constexpr std::string_view kProdDefectiveCount = "PackML/Admin/ProdDefectiveCount";
+// The machine model's variables OEE reads, below the machine.
+inline constexpr std::string_view kStateCurrent = "PackML/Status/StateCurrent",
+                                  kUnitModeCurrent = "PackML/Status/UnitModeCurrent",
+                                  kProdProcessedCount = "PackML/Admin/ProdProcessedCount",
+                                  kProdDefectiveCount = "PackML/Admin/ProdDefectiveCount";
 
 // "/Objects/Machines/<iri_name(machine)>/<variable>"
 std::string machine_series_path(std::string_view machine, std::string_view variable);

@@ -47,6 +47,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -85,6 +86,13 @@ opcua::StatusCode status_of(Tag::Quality quality);
 // when the state machine refuses it (Errc::state), BadTimeout or BadShutdown when the
 // controller did not take it.
 using CommandHandler = std::function<opcua::StatusCode(PackMLCommand)>;
+
+// The Object below a machine whose method a PackML command is, as a browse path relative to the
+// machine ("PackML/BaseStateMachine/MachineState/ExecuteState" for Start; OPC 30050 §6.3.6-8):
+// what a client calls through the model.
+std::string method_object_path(PackMLCommand command);
+// "Start" → PackMLCommand::Start; nullopt for a name that is no command.
+std::optional<PackMLCommand> packml_command(std::string_view name);
 
 class MachineModel {
  public:

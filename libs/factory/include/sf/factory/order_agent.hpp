@@ -64,8 +64,8 @@ struct BoxInspection {
 struct OrderEvent {
   Clock::time_point at{};
   std::string order;
-  // accepted, awarded, routed, transported, uploaded, loaded, inspected, done, failed, retry,
-  // rejected, remade
+  // accepted, started (a box for it begins), awarded, routed, transported, uploaded, loaded,
+  // inspected, done, failed, retry, rejected, remade, cancelled, cancel-refused
   std::string what;
   std::string machine;  // the machine or conveyor it concerns
   std::string detail;

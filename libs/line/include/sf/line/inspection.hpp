@@ -39,7 +39,7 @@ Result<InspectionRecord> parse_inspection(std::string_view text);
 
 // One step of an order as the order service's OPC UA events carry it (Message; the order's id is
 // the SourceName): "<what> <machine or -> <detail>", e.g. "loaded scara-robot-1 gummy:4 slots
-// 0-3" or "accepted - small-box with 6 candies". `what` and `machine` have no spaces; the detail
+// 0-3" or "accepted - small-box gummy:4,toffee:2". `what` and `machine` have no spaces; the detail
 // is free text, maybe empty.
 struct OrderStep {
   std::string what;     // accepted, awarded, routed, ..., done, failed, cancelled, cancel-refused

@@ -20,6 +20,9 @@ class Router {
   // Adds a route; a pattern must start with '/', and '{' '}' enclose a whole segment.
   Status add(std::string method, std::string_view pattern, Handler handler);
 
+  // Every route as (method, pattern), in the order added (e.g. to check an API description).
+  [[nodiscard]] std::vector<std::pair<std::string, std::string>> routes() const;
+
   // Whether some route's pattern matches the path, whatever the method.
   [[nodiscard]] bool matches_path(std::string_view path) const;
 

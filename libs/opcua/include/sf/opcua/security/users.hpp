@@ -18,7 +18,8 @@
 // Patterns are node ids in text with the namespace as URI ("nsu=URI;s=Name", "i=2258" for
 // namespace 0); a trailing '*' matches any rest; a leading '!' denies. The first pattern that
 // matches decides, none means no. Built-in roles: viewer (read), operator (read; write and
-// call outside namespace 0), engineer (everything).
+// call outside namespace 0), engineer and admin (everything), consumer (nothing on a server: the
+// web's role of people who order boxes).
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "test_client.hpp"
+#include "sf/web/testing/client.hpp"
 
 namespace sf::web::testing {
 namespace net = boost::asio;
@@ -16,11 +16,14 @@ tcp::socket connect(net::io_context& context, std::uint16_t port, int receive_bu
 }
 
 HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target, std::string body,
-                          std::string_view content_type) {
+                          std::string_view content_type, const HeaderList& headers) {
   net::io_context context;
   auto socket = connect(context, port);
   http::request<http::string_body> request{method, beast::string_view(target.data(), target.size()), 11};
   request.set(http::field::host, "127.0.0.1");
+  for (const auto& [name, value] : headers) {
+    request.set(name, value);
+  }
   if (!body.empty()) {
     request.set(http::field::content_type, beast::string_view(content_type.data(), content_type.size()));
     request.body() = std::move(body);

@@ -1,6 +1,6 @@
-// Clients for the server tests: Boost.Beast's HTTP and WebSocket clients over loopback, and a
-// raw socket for bytes no well-behaved client sends. The reads block (Asio's synchronous reads
-// ignore SO_RCVTIMEO): an HTTP read the server never answers ends with the server's idle timeout
+// Clients for the tests of web servers (libs/web, libs/dashboard): Boost.Beast's HTTP and WebSocket clients
+// over loopback, and a raw socket for bytes no well-behaved client sends. The reads block (Asio's synchronous
+// reads ignore SO_RCVTIMEO): an HTTP read the server never answers ends with the server's idle timeout
 // (kTestIdleTimeout), a live read with the test's timeout.
 #pragma once
 
@@ -14,6 +14,8 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace sf::web::testing {
 
@@ -29,9 +31,12 @@ void wait_until(Predicate done) {
   }
 }
 
-// One request on a fresh connection.
+using HeaderList = std::vector<std::pair<std::string, std::string>>;
+
+// One request on a fresh connection, with these header fields besides Host and Content-Type.
 HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target,
-                          std::string body = {}, std::string_view content_type = "application/json");
+                          std::string body = {}, std::string_view content_type = "application/json",
+                          const HeaderList& headers = {});
 
 // Writes bytes on a fresh connection and returns everything read until the server closes or
 // a read times out.

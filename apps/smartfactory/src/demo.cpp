@@ -20,6 +20,8 @@
 #include "sf/factory/line_view.hpp"
 #include "sf/factory/order.hpp"
 #include "sf/line/ontology.hpp"
+#include "sf/opcua/security/users.hpp"
+#include "sf/opcua/server/session.hpp"
 
 namespace sf::app {
 namespace {
@@ -49,7 +51,28 @@ struct DemoOptions {
   std::string run_dir;
   bool json = false;
   bool hosts = false;
+  int http_port = -1;
+  std::string web_users;
 };
+
+// A users file for the dashboard when none is given: one operator with a random password, said
+// on stderr (the demo's own run directory; nothing outside it).
+Result<fs::path> demo_users(const fs::path& run_dir) {
+  std::string password;
+  for (auto b : opcua::server::random_bytes(9)) {
+    password += fmt::format("{:02x}", b);
+  }
+  auto hash = opcua::security::hash_password(password);
+  if (!hash) {
+    return hash.error();
+  }
+  opcua::security::UserDatabase users;
+  SF_TRY(users.put({"operator", *hash, {}, {"operator"}}));
+  const fs::path file = run_dir / "web-users.yaml";
+  SF_TRY(users.save(file));
+  std::cerr << fmt::format("demo: dashboard user 'operator', password {} ({})\n", password, file.string());
+  return file;
+}
 
 json utilisation_json(const std::vector<fy::WorkingTime>& working, double seconds) {
   json u = json::object();
@@ -83,6 +106,16 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   line.historian = fmt::format("sqlite:{}", fs::absolute(run_dir / "history.db").string());
   line.orders_file = run_dir / "orders.yaml";
   line.hosts = o.hosts;
+  line.http_port = o.http_port;
+  line.web_users = o.web_users;
+  if (o.http_port >= 0 && o.web_users.empty()) {
+    fs::create_directories(run_dir, ec);
+    auto users = demo_users(run_dir);
+    if (!users) {
+      return users.error();
+    }
+    line.web_users = *users;
+  }
   auto layout = line::default_layout();
   if (!layout) {
     return layout.error();
@@ -145,6 +178,9 @@ int run_demo(const DemoOptions& o) {
     return stop_requested() ? kExitOk : kExitFailure;
   }
   std::cerr << "demo: the line is up; orders go in\n";
+  if (o.http_port > 0) {
+    std::cerr << fmt::format("demo: dashboard on http://127.0.0.1:{}/\n", o.http_port);
+  }
   auto opened = fy::LineView::open(*p);
   if (!opened) {
     std::cerr << "demo: " << opened.error().message << "\n";
@@ -225,6 +261,11 @@ void register_demo(CLI::App& app, CommandResult& result) {
                   "Where configurations, logs and the historian go (default: a new temp dir)");
   cmd->add_flag("--json", o->json, "Progress and summary as JSON lines");
   cmd->add_flag("--hosts", o->hosts, "Each process in a network namespace of its own (root; see below)");
+  cmd->add_option("--http", o->http_port,
+                  "The cloud's dashboard on this port (-1 = off); --duration keeps it up after the orders")
+      ->capture_default_str();
+  cmd->add_option("--web-users", o->web_users,
+                  "Users of the dashboard (default: a file with one operator, its password printed)");
   cmd->footer(kDemoHelp);
   cmd->callback([o, &result] { result.exit_code = run_demo(*o); });
 }

@@ -280,6 +280,12 @@ void register_line(CLI::App& app, CommandResult& result) {
   cmd->add_option(
       "--historian", o->line.historian,
       "Also run the cloud, configured for the line, into this historian (sqlite:PATH, postgresql://...)");
+  cmd->add_option("--http", o->line.http_port,
+                  "The cloud's dashboard on this port (0 = any free port, see the cloud's log; -1 = off)")
+      ->capture_default_str();
+  cmd->add_option(
+      "--web-users", o->line.web_users,
+      "Users of the dashboard (`smartfactory opcua users` file: consumer, viewer, operator, ...)");
   cmd->add_flag(
       "--hosts", o->line.hosts,
       "Each process in a network namespace of its own, an interface per protocol (root; see above)");

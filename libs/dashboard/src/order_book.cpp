@@ -125,6 +125,10 @@ std::optional<std::string> OrderBook::on_inspection(std::string_view text, histo
     return std::nullopt;
   }
   OrderView& o = order(record->order);
+  if (o.box.empty()) {  // accepted before the gateway subscribed (its event never reached us)
+    o.box = record->box_type;
+    o.candy = record->ordered;
+  }
   o.inspection = std::move(*record);
   o.updated = std::max(o.updated, time);
   return o.id;

@@ -150,8 +150,15 @@ std::vector<std::string> own_argv(const LinePlan& plan, const LineProcess& p) {
     case LineRole::gateway:
     case LineRole::orders:
       return {program, std::string(to_string(p.role)), "--config", p.config.string(), "--json"};
-    case LineRole::cloud:
-      return {program, "cloud", "--config", fs::absolute(o.cloud_config).string()};
+    case LineRole::cloud: {
+      std::vector<std::string> argv{program,    "cloud",
+                                    "--config", fs::absolute(o.cloud_config).string(),
+                                    "--http",   std::to_string(o.http_port)};
+      if (!o.web_users.empty()) {
+        argv.insert(argv.end(), {"--web-users", fs::absolute(o.web_users).string()});
+      }
+      return argv;
+    }
   }
   return {};
 }

@@ -52,6 +52,10 @@ struct LineOptions {
   std::string historian;
   // Each process in a network namespace of its own (line_hosts.hpp), named from the run directory.
   bool hosts = false;
+  // The cloud's dashboard (`smartfactory cloud --http`): its port (0: any free one, printed in
+  // the cloud's log; -1: off) and its users file.
+  int http_port = -1;
+  std::filesystem::path web_users;
 };
 
 enum class LineRole : std::uint8_t { plant, machine, gateway, cloud, orders };

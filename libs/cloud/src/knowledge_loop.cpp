@@ -1,6 +1,8 @@
 // The knowledge loop (knowledge_loop.hpp): live values → facts → incremental closure → alarms.
 #include "sf/cloud/knowledge_loop.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -10,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "live_facts.hpp"
 #include "sf/knowledge/rdf_io.hpp"
 #include "sf/knowledge/reasoner.hpp"
 #include "sf/knowledge/rules.hpp"
@@ -24,8 +27,6 @@ namespace vocab = sf::knowledge::vocab;
 
 namespace {
 
-constexpr std::string_view kMachines = "/Objects/Machines/";
-constexpr std::string_view kFault = "/Fault";
 constexpr std::string_view kInspection = "/OrderService/LastInspection";
 
 // An order id as part of an IRI: letters, digits, '-', '.' and '_' stay, anything else is
@@ -47,18 +48,19 @@ std::string xsd_date_time(historian::Timestamp t) {
   return fmt::format("{:%Y-%m-%dT%H:%M:%S}Z", std::chrono::floor<std::chrono::milliseconds>(t));
 }
 
-// The machine of "/Objects/Machines/<M>/Fault", or nothing.
-std::optional<std::string_view> fault_machine(std::string_view path) {
-  const auto at = path.find(kMachines);
-  if (at == std::string_view::npos || !path.ends_with(kFault)) {
-    return std::nullopt;
+// "1.5", "80.0": a value in the ontology's unit to a thousandth (the travel limits are written
+// to a tenth), as an xsd:double's lexical form the rules' messages show.
+std::string decimal(double v) {
+  const double rounded = std::round(v * 1000.0) / 1000.0;
+  return rounded == std::floor(rounded) ? fmt::format("{:.1f}", rounded) : fmt::format("{}", rounded);
+}
+
+// FNV-1a, 64 bits: an alarm id that is the same in every run and every process.
+std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 14695981039346656037ULL) {
+  for (const char c : text) {
+    h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
   }
-  auto machine = path.substr(at + kMachines.size());
-  machine.remove_suffix(kFault.size());
-  if (machine.empty() || machine.find('/') != std::string_view::npos) {
-    return std::nullopt;
-  }
-  return machine;
+  return h;
 }
 
 }  // namespace
@@ -68,13 +70,21 @@ struct KnowledgeLoop::Impl {
   kb::Dictionary dict;
   std::unique_ptr<kb::Reasoner> reasoner;
   std::chrono::seconds due_after{0};
+  Clock* clock = nullptr;
   AlarmSink sink;
-  std::map<std::string, Alarm> active;            // by id
-  std::map<std::string, kb::TermId> fault_state;  // machine IRI → its sf:state literal now
-  std::set<std::string> orders;                   // orders whose triples are in
-  std::set<std::string> boxes;                    // boxes whose triples are in
-  // Per series of a current value (faults): the source time of the value applied last. A value
-  // read back from history after a reconnect may be older than one the subscription delivered.
+  std::map<std::string, Alarm> retained;  // by id: active, or cleared and not acknowledged
+  // The current value of a functional live property (a fault state, a position, a temperature)
+  // of a subject, replaced by the next.
+  std::map<std::pair<kb::TermId, kb::TermId>, kb::TermId> current;
+  std::set<kb::TermId> live_properties;  // rdfs:subPropertyOf sf:liveValue: not part of an alarm's id
+  std::set<std::string> orders;          // orders whose triples are in
+  struct BoxIn {
+    historian::Timestamp at;
+    std::vector<kb::Triple> triples;  // the box's own, replaced when it is inspected again
+  };
+  std::map<std::string, BoxIn> boxes;  // by "order box"
+  // Per series of a current value: the source time of the value applied last. A value read back
+  // from history after a reconnect may be older than one the subscription delivered.
   std::map<std::string, historian::Timestamp> newest;
   KnowledgeLoopStatus st;
 
@@ -86,12 +96,23 @@ struct KnowledgeLoop::Impl {
   void order_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add);
   void line_facts(const std::string& order, const std::string& candy, int quantity,
                   std::vector<kb::Triple>& add);
-  void box_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add);
+  void box_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add,
+                 std::vector<kb::Triple>& lines);
   Status inspection(const LiveUpdate& u);
+  bool newer(const LiveUpdate& u);
+  void set_current(kb::TermId subject, kb::TermId property, std::optional<kb::TermId> value,
+                   historian::Timestamp at);
   Status fault(std::string_view machine, const LiveUpdate& u);
+  void quantity(const detail::LiveQuantity& q, const LiveUpdate& u);
   void apply(const Result<kb::UpdateResult>& result, historian::Timestamp at);
   Alarm alarm_of(const kb::Violation& v) const;
+  void deliver(const Alarm& a) const {
+    if (sink) {
+      sink(a);
+    }
+  }
   void raise_and_clear(historian::Timestamp at);
+  void find_live_properties();
 };
 
 void KnowledgeLoop::Impl::order_facts(const line::InspectionRecord& r, historian::Timestamp at,
@@ -121,7 +142,7 @@ void KnowledgeLoop::Impl::line_facts(const std::string& order, const std::string
 }
 
 void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::Timestamp at,
-                                    std::vector<kb::Triple>& add) {
+                                    std::vector<kb::Triple>& add, std::vector<kb::Triple>& lines) {
   const std::string name = fmt::format("Box_{}_{}", iri_part(r.order), r.box);
   const kb::TermId box = p(name);
   add.push_back({box, type(), sf("CandyBox")});
@@ -138,7 +159,7 @@ void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::
   // result would hang on the order in which a forward engine meets the facts.
   for (const auto& [candy, n] : r.counted) {
     if (!r.ordered.contains(candy)) {
-      line_facts(r.order, candy, 0, add);
+      line_facts(r.order, candy, 0, lines);
     }
   }
   for (const auto& [candy, n] : content) {
@@ -152,6 +173,8 @@ void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::
   add.push_back({box, sf("candyCount"), integer(total)});
 }
 
+// A box inspected again (taken off the line, refilled, inspected once more) replaces its own
+// triples; the order's lines stay, other boxes of the order may need them.
 Status KnowledgeLoop::Impl::inspection(const LiveUpdate& u) {
   const auto* text = std::get_if<std::string>(&u.sample.value);
   if (text == nullptr || text->empty()) {
@@ -162,17 +185,64 @@ Status KnowledgeLoop::Impl::inspection(const LiveUpdate& u) {
     return r.error();
   }
   const historian::Timestamp at = u.sample.source_time;
-  if (!boxes.insert(fmt::format("{} {}", r->order, r->box)).second) {
-    return {};  // delivered again (read back from history): in already
+  const std::string key = fmt::format("{} {}", r->order, r->box);
+  const auto before = boxes.find(key);
+  if (before != boxes.end() && at <= before->second.at) {
+    return {};  // delivered again (read back from history), or older than the box's last inspection
   }
   kb::Changes changes;
   if (orders.insert(r->order).second) {
     order_facts(*r, at, changes.add);
   }
-  box_facts(*r, at, changes.add);
+  std::vector<kb::Triple> own;
+  box_facts(*r, at, own, changes.add);
+  if (before != boxes.end()) {
+    for (const kb::Triple& t : before->second.triples) {
+      if (std::find(own.begin(), own.end(), t) == own.end()) {
+        changes.remove.push_back(t);
+      }
+    }
+  }
+  for (const kb::Triple& t : own) {
+    if (before == boxes.end() || std::find(before->second.triples.begin(), before->second.triples.end(), t) ==
+                                     before->second.triples.end()) {
+      changes.add.push_back(t);
+    }
+  }
+  boxes[key] = BoxIn{at, std::move(own)};
   ++st.inspections;
   apply(reasoner->update(changes), at);
   return {};
+}
+
+// Whether the update is newer than the value of its series applied last (and from now on the
+// one applied).
+bool KnowledgeLoop::Impl::newer(const LiveUpdate& u) {
+  const std::string series = u.series->server + " " + u.series->node_id;
+  if (auto it = newest.find(series); it != newest.end() && u.sample.source_time <= it->second) {
+    return false;
+  }
+  newest[series] = u.sample.source_time;
+  return true;
+}
+
+// (subject property value) replaces the property's value of the subject; nullopt removes it.
+void KnowledgeLoop::Impl::set_current(kb::TermId subject, kb::TermId property,
+                                      std::optional<kb::TermId> value, historian::Timestamp at) {
+  const auto key = std::make_pair(subject, property);
+  kb::Changes changes;
+  if (auto it = current.find(key); it != current.end()) {
+    if (value && dict.value_id(*value) == dict.value_id(it->second)) {
+      return;  // the same value again
+    }
+    changes.remove.push_back({subject, property, it->second});
+    current.erase(it);
+  }
+  if (value) {
+    changes.add.push_back({subject, property, *value});
+    current[key] = *value;
+  }
+  apply(reasoner->update(changes), at);
 }
 
 Status KnowledgeLoop::Impl::fault(std::string_view machine, const LiveUpdate& u) {
@@ -180,25 +250,23 @@ Status KnowledgeLoop::Impl::fault(std::string_view machine, const LiveUpdate& u)
   if (text == nullptr) {
     return make_error(Errc::invalid_argument, fmt::format("{}: a fault is a text", u.series->browse_path));
   }
-  const std::string series = u.series->server + " " + u.series->node_id;
-  if (auto it = newest.find(series); it != newest.end() && u.sample.source_time <= it->second) {
-    return {};  // not newer than the value applied
+  if (!newer(u)) {
+    return {};
   }
-  newest[series] = u.sample.source_time;
-  const kb::TermId m = p(machine);
-  const std::string key(machine);
-  kb::Changes changes;
-  if (auto it = fault_state.find(key); it != fault_state.end()) {
-    changes.remove.push_back({m, sf("state"), it->second});
-    fault_state.erase(it);
-  }
+  std::optional<kb::TermId> state;
   if (!text->empty()) {
-    const kb::TermId state = dict.literal("fault: " + *text);
-    changes.add.push_back({m, sf("state"), state});
-    fault_state[key] = state;
+    state = dict.literal("fault: " + *text);
   }
-  apply(reasoner->update(changes), u.sample.source_time);
+  set_current(p(machine), sf("state"), state, u.sample.source_time);
   return {};
+}
+
+void KnowledgeLoop::Impl::quantity(const detail::LiveQuantity& q, const LiveUpdate& u) {
+  if (!newer(u)) {
+    return;
+  }
+  set_current(p(q.individual), sf(q.property), dict.literal(decimal(q.value), vocab::kXsdDouble),
+              u.sample.source_time);
 }
 
 void KnowledgeLoop::Impl::apply(const Result<kb::UpdateResult>& result, historian::Timestamp at) {
@@ -211,15 +279,22 @@ void KnowledgeLoop::Impl::apply(const Result<kb::UpdateResult>& result, historia
   raise_and_clear(at);
 }
 
+// The id names the rule, the entity and the explanation's static facts: a live value that
+// changes while the violation lasts (a temperature still above its maximum) keeps the alarm.
 Alarm KnowledgeLoop::Impl::alarm_of(const kb::Violation& v) const {
   Alarm a;
   a.entity = std::string(dict.term(v.triple.s).text);
   a.message = std::string(dict.term(v.triple.o).text);
-  a.id = a.entity + " " + a.message;
   a.rule = v.because.rule != nullptr ? v.because.rule->label() : std::string();
+  std::uint64_t h = fnv1a(a.rule, fnv1a(a.entity));
   for (const kb::TripleId premise : v.because.premises) {
-    a.facts.push_back(kb::format_triple(dict, reasoner->store().at(premise)));
+    const kb::Triple t = reasoner->store().at(premise);
+    a.facts.push_back(kb::format_triple(dict, t));
+    if (!live_properties.contains(t.p)) {
+      h = fnv1a(a.facts.back(), h);
+    }
   }
+  a.id = fmt::format("{}-{:016x}", a.rule, h);
   return a;
 }
 
@@ -229,31 +304,43 @@ void KnowledgeLoop::Impl::raise_and_clear(historian::Timestamp at) {
     Alarm a = alarm_of(v);
     now.emplace(a.id, std::move(a));
   }
-  for (auto it = active.begin(); it != active.end();) {
-    if (now.contains(it->first)) {
+  for (auto it = retained.begin(); it != retained.end();) {
+    Alarm& a = it->second;
+    const auto still = now.find(it->first);
+    if (!a.active || still != now.end()) {
+      if (a.active) {  // the live values moved: the message and the facts follow
+        a.message = still->second.message;
+        a.facts = still->second.facts;
+      }
       ++it;
       continue;
     }
-    Alarm cleared = std::move(it->second);
-    cleared.active = false;
-    cleared.time = at;
-    it = active.erase(it);
-    if (sink) {
-      sink(cleared);
-    }
+    a.active = false;
+    a.change = AlarmChange::cleared;
+    a.time = at;
+    deliver(a);
+    it = a.acked ? retained.erase(it) : std::next(it);
   }
   for (auto& [id, a] : now) {
-    if (active.contains(id)) {
+    if (auto it = retained.find(id); it != retained.end() && it->second.active) {
       continue;
     }
-    a.time = at;
-    active.emplace(id, a);
-    if (sink) {
-      sink(a);
-    }
+    a.time = at;  // new, or raised again while its clearing waits for an acknowledgement
+    deliver(retained.insert_or_assign(id, std::move(a)).first->second);
   }
-  st.active_alarms = active.size();
+  st.active_alarms = static_cast<std::size_t>(
+      std::count_if(retained.begin(), retained.end(), [](const auto& e) { return e.second.active; }));
   st.triples = reasoner->store().size();
+}
+
+// The properties whose values change at run time (OPC UA variables): rdfs:subPropertyOf
+// sf:liveValue in the ontology.
+void KnowledgeLoop::Impl::find_live_properties() {
+  const kb::TermId sub = dict.iri(vocab::kRdfsSubPropertyOf);
+  const kb::TermId live = dict.value_id(sf("liveValue"));
+  const auto& store = reasoner->store();
+  store.match(kb::ValuePattern{kb::kNoTerm, sub, live}, store.next_id(),
+              [&](kb::TripleId id) { live_properties.insert(store.at(id).s); });
 }
 
 Result<std::unique_ptr<KnowledgeLoop>> KnowledgeLoop::create(const line::Layout& layout,
@@ -261,6 +348,7 @@ Result<std::unique_ptr<KnowledgeLoop>> KnowledgeLoop::create(const line::Layout&
                                                              AlarmSink sink) {
   auto impl = std::make_unique<Impl>();
   impl->due_after = options.due_after;
+  impl->clock = options.clock;
   impl->sink = std::move(sink);
   auto ontology = kb::read_rdf_string(impl->dict, options.ontology, kb::Syntax::turtle, "<ontology>");
   if (!ontology) {
@@ -280,6 +368,7 @@ Result<std::unique_ptr<KnowledgeLoop>> KnowledgeLoop::create(const line::Layout&
   impl->reasoner = std::make_unique<kb::Reasoner>(impl->dict, std::move(*rules), ro);
   impl->reasoner->add_data(ontology->triples);
   impl->reasoner->add_data(line_doc->triples);
+  impl->find_live_properties();
   if (auto run = impl->reasoner->run(); !run) {
     return run.error();
   }
@@ -299,8 +388,14 @@ void KnowledgeLoop::on_value(const LiveUpdate& update) {
   Status done;
   if (path.ends_with(kInspection)) {
     done = impl_->inspection(update);
-  } else if (auto machine = fault_machine(path)) {
+  } else if (auto machine = detail::machine_of(path, "Fault")) {
     done = impl_->fault(*machine, update);
+  } else if (auto q = detail::live_quantity(path, update.series->unit, update.sample.value)) {
+    if (*q) {
+      impl_->quantity(**q, update);
+    } else {
+      done = q->error();
+    }
   } else {
     return;
   }
@@ -310,10 +405,43 @@ void KnowledgeLoop::on_value(const LiveUpdate& update) {
   }
 }
 
+Status KnowledgeLoop::acknowledge(std::string_view id, std::string_view user, std::string_view comment) {
+  std::lock_guard lock(impl_->mutex);
+  const auto it = impl_->retained.find(std::string(id));
+  if (it == impl_->retained.end()) {
+    return make_error(Errc::not_found, fmt::format("no alarm '{}' to acknowledge", id));
+  }
+  Alarm& a = it->second;
+  if (a.acked) {
+    return make_error(Errc::state, fmt::format("alarm '{}' is acknowledged already (by {})", id, a.acked_by));
+  }
+  a.acked = true;
+  a.acked_by = std::string(user);
+  a.ack_comment = std::string(comment);
+  a.change = AlarmChange::acknowledged;
+  a.time = std::chrono::time_point_cast<historian::Micros>(impl_->clock->utc_now());
+  impl_->deliver(a);
+  if (!a.active) {
+    impl_->retained.erase(it);  // cleared and acknowledged: the condition is no longer retained
+  }
+  return {};
+}
+
 std::vector<Alarm> KnowledgeLoop::active_alarms() const {
   std::lock_guard lock(impl_->mutex);
   std::vector<Alarm> out;
-  for (const auto& [id, a] : impl_->active) {
+  for (const auto& [id, a] : impl_->retained) {
+    if (a.active) {
+      out.push_back(a);
+    }
+  }
+  return out;
+}
+
+std::vector<Alarm> KnowledgeLoop::retained_alarms() const {
+  std::lock_guard lock(impl_->mutex);
+  std::vector<Alarm> out;
+  for (const auto& [id, a] : impl_->retained) {
     out.push_back(a);
   }
   return out;
@@ -324,22 +452,48 @@ KnowledgeLoopStatus KnowledgeLoop::status() const {
   return impl_->st;
 }
 
+std::string_view to_string(AlarmChange change) {
+  switch (change) {
+    case AlarmChange::raised:
+      return "raised";
+    case AlarmChange::cleared:
+      return "cleared";
+    case AlarmChange::acknowledged:
+      return "acknowledged";
+  }
+  return "?";
+}
+
 historian::Event alarm_event(const Alarm& alarm, std::string_view server) {
   historian::Event e;
   e.server = std::string(server);
-  // One id per raising or clearing (Part 5 §6.4.2: EventId unique per event).
-  const std::string id = fmt::format("{} {} {}", alarm.active ? "raised" : "cleared",
-                                     historian::to_micros(alarm.time), alarm.id);
+  // One id per raising, clearing or acknowledgement (Part 5 §6.4.2: EventId unique per event).
+  const std::string id =
+      fmt::format("{} {} {}", to_string(alarm.change), historian::to_micros(alarm.time), alarm.id);
   e.event_id.assign(id.begin(), id.end());
   e.time = alarm.time;
   e.receive_time = alarm.time;
   e.event_type = "sf:Violation";
   e.source_node = alarm.entity;
   e.source_name = alarm.entity.substr(alarm.entity.find_last_of("/#") + 1);
-  e.severity = alarm.active ? 700 : 100;
-  e.message = (alarm.active ? "" : "cleared: ") + alarm.message;
-  e.fields = nlohmann::json{{"rule", alarm.rule}, {"active", alarm.active}, {"facts", alarm.facts}}.dump();
+  e.severity = alarm_severity(alarm);
+  e.message = alarm.change == AlarmChange::raised
+                  ? alarm.message
+                  : fmt::format("{}: {}", to_string(alarm.change), alarm.message);
+  e.fields = nlohmann::json{{"id", alarm.id},
+                            {"change", to_string(alarm.change)},
+                            {"rule", alarm.rule},
+                            {"active", alarm.active},
+                            {"acked", alarm.acked},
+                            {"acked_by", alarm.acked_by},
+                            {"ack_comment", alarm.ack_comment},
+                            {"facts", alarm.facts}}
+                 .dump();
   return e;
+}
+
+std::uint16_t alarm_severity(const Alarm& alarm) {
+  return alarm.active ? 700 : 100;
 }
 
 }  // namespace sf::cloud

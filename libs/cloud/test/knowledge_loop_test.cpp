@@ -42,8 +42,9 @@ class KnowledgeLoopTest : public ::testing::Test {
     ASSERT_TRUE(alarms.empty()) << alarms.front().message;
   }
 
-  void value(std::string path, historian::Value v, bool replayed = false) {
-    historian::SeriesInfo info{"line", "ns=2;s=" + path, std::move(path), historian::DataType::string, {}};
+  void value(std::string path, historian::Value v, bool replayed = false, std::string unit = {}) {
+    historian::SeriesInfo info{"line", "ns=2;s=" + path, std::move(path), historian::DataType::string,
+                               std::move(unit)};
     LiveUpdate u{&info, {}, replayed};
     u.sample.source_time = replayed ? now_ - 10s : now_;
     u.sample.value = std::move(v);
@@ -55,6 +56,10 @@ class KnowledgeLoopTest : public ::testing::Test {
   }
   void fault(const std::string& machine, const std::string& text) {
     value("/Objects/Machines/" + machine + "/Fault", text);
+  }
+  // A machine's tag in the unit its EngineeringUnits name.
+  void tag(const std::string& machine, const std::string& name, double v, std::string unit) {
+    value("/Objects/Machines/" + machine + "/Tags/" + name, v, false, std::move(unit));
   }
   std::vector<Alarm> raised(std::string_view rule) const {
     std::vector<Alarm> out;
@@ -190,7 +195,125 @@ TEST_F(KnowledgeLoopTest, AnAlarmIsAHistorianEventWithItsRuleAndFacts) {
   EXPECT_EQ(fields["facts"].size(), alarms.front().facts.size());
   Alarm cleared = alarms.front();
   cleared.active = false;
+  cleared.change = AlarmChange::cleared;
   EXPECT_NE(alarm_event(cleared, "knowledge").event_id, e.event_id);
+}
+
+TEST_F(KnowledgeLoopTest, ATemperatureOverItsMaximumRaisesOneAlarmThatClearsWhenItReturns) {
+  make();
+  tag("Denso", "robot.temperature", 65.0, "°C");  // sf:maxTemperature 70.0 (the line's individuals)
+  EXPECT_TRUE(alarms.empty());
+  tag("Denso", "robot.temperature", 74.5, "°C");
+  ASSERT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(alarms[0].rule, "temperatureHigh");
+  EXPECT_EQ(alarms[0].message, "temperature 74.5 above the maximum 70.0");
+  EXPECT_TRUE(alarms[0].entity.ends_with("/Denso")) << alarms[0].entity;
+  // Hotter still: the same alarm, its message follows the value.
+  tag("Denso", "robot.temperature", 76.0, "°C");
+  EXPECT_EQ(alarms.size(), 1U);
+  ASSERT_EQ(loop_->active_alarms().size(), 1U);
+  EXPECT_EQ(loop_->active_alarms()[0].message, "temperature 76.0 above the maximum 70.0");
+  tag("Denso", "robot.temperature", 69.5, "°C");
+  ASSERT_EQ(alarms.size(), 2U);
+  EXPECT_FALSE(alarms[1].active);
+  EXPECT_EQ(alarms[1].change, AlarmChange::cleared);
+  EXPECT_EQ(alarms[1].id, alarms[0].id);
+  EXPECT_TRUE(loop_->active_alarms().empty());
+  // Kelvin is converted: 350 K = 76.85 °C.
+  tag("Toshiba", "robot.temperature", 350.0, "K");
+  ASSERT_EQ(raised("temperatureHigh").size(), 2U);
+  EXPECT_EQ(raised("temperatureHigh").back().message, "temperature 76.85 above the maximum 70.0");
+}
+
+TEST_F(KnowledgeLoopTest, AnAxisOutsideItsTravelRaisesOneAlarmThatClearsWhenItReturns) {
+  make();
+  // The smart robot publishes SI units: radians for θ1 (travel -149.0..149.0°), metres for z
+  // (0.0..300.0 mm).
+  tag("ScaraRobot1", "axis1.position", 1.0, "rad");
+  tag("ScaraRobot1", "axis3.position", 0.25, "m");
+  EXPECT_TRUE(alarms.empty()) << alarms.front().message;
+  tag("ScaraRobot1", "axis1.position", 2.7, "rad");  // 154.699°
+  ASSERT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(alarms[0].rule, "axisTravel");
+  EXPECT_EQ(alarms[0].message, "position 154.699 outside -149.0..149.0");
+  EXPECT_TRUE(alarms[0].entity.ends_with("/ScaraRobot1Axis1")) << alarms[0].entity;
+  tag("ScaraRobot1", "axis1.position", 2.8, "rad");  // further out: still the one alarm
+  EXPECT_EQ(alarms.size(), 1U);
+  tag("ScaraRobot1", "axis1.position", -0.5, "rad");
+  ASSERT_EQ(alarms.size(), 2U);
+  EXPECT_FALSE(alarms[1].active);
+  EXPECT_EQ(alarms[1].id, alarms[0].id);
+  tag("ScaraRobot1", "axis3.position", 0.31, "m");
+  ASSERT_EQ(raised("axisTravel").size(), 2U);
+  EXPECT_EQ(raised("axisTravel").back().message, "position 310.0 outside 0.0..300.0");
+  tag("ScaraRobot1", "axis3.position", 0.3, "m");  // at the end of its travel: inside
+  EXPECT_TRUE(loop_->active_alarms().empty());
+  EXPECT_EQ(loop_->status().rejected, 0U);
+}
+
+TEST_F(KnowledgeLoopTest, AQuantityWithoutAUnitOfItsKindIsRejectedNotGuessed) {
+  make();
+  tag("ScaraRobot1", "axis1.position", 2.7, "");
+  tag("ScaraRobot1", "axis1.position", 2.7, "°C");
+  tag("Denso", "robot.temperature", 90.0, "furlong");
+  value("/Objects/Machines/Denso/Tags/robot.temperature", std::string("hot"), false, "°C");
+  EXPECT_TRUE(alarms.empty());
+  EXPECT_EQ(loop_->status().rejected, 4U);
+  EXPECT_NE(loop_->status().last_error.find("a temperature is a number"), std::string::npos)
+      << loop_->status().last_error;
+  tag("ScaraRobot1", "axis1.position", 154.7, "°");  // degrees as they are
+  EXPECT_EQ(raised("axisTravel").size(), 1U);
+}
+
+TEST_F(KnowledgeLoopTest, ABoxWhoseContentDiffersRaisesOneAlarmThatClearsWhenTheBoxIsRightAgain) {
+  make();
+  inspect(box("carol-1", 5, {{"chocolate", 4}, {"gummy", 1}}));
+  ASSERT_EQ(alarms.size(), 1U);
+  EXPECT_EQ(alarms[0].rule, "contentMismatch");
+  EXPECT_EQ(alarms[0].message, "gummy bear: ordered 3, the box holds 1");
+  inspect(box("carol-1", 5, {{"chocolate", 4}, {"gummy", 2}}));  // refilled, one short still
+  EXPECT_EQ(alarms.size(), 1U);
+  ASSERT_EQ(loop_->active_alarms().size(), 1U);
+  EXPECT_EQ(loop_->active_alarms()[0].message, "gummy bear: ordered 3, the box holds 2");
+  inspect(box("carol-1", 5, {{"chocolate", 4}, {"gummy", 3}}));  // the box now holds its order
+  ASSERT_EQ(alarms.size(), 2U);
+  EXPECT_FALSE(alarms[1].active);
+  EXPECT_EQ(alarms[1].id, alarms[0].id);
+  EXPECT_TRUE(loop_->active_alarms().empty());
+  EXPECT_EQ(loop_->status().rejected, 0U);
+}
+
+TEST_F(KnowledgeLoopTest, AnOperatorAcknowledgesAnAlarmOnce) {
+  make();
+  EXPECT_EQ(loop_->acknowledge("axisTravel-0000000000000000", "olga", "").error().code, Errc::not_found);
+  tag("Denso", "robot.temperature", 75.0, "°C");
+  ASSERT_EQ(alarms.size(), 1U);
+  const std::string id = alarms[0].id;
+  EXPECT_FALSE(alarms[0].acked);
+  ASSERT_TRUE(loop_->acknowledge(id, "olga", "fan replaced"));
+  ASSERT_EQ(alarms.size(), 2U);
+  EXPECT_EQ(alarms[1].change, AlarmChange::acknowledged);
+  EXPECT_TRUE(alarms[1].acked && alarms[1].active);
+  EXPECT_EQ(alarms[1].acked_by, "olga");
+  EXPECT_EQ(alarms[1].ack_comment, "fan replaced");
+  EXPECT_EQ(loop_->acknowledge(id, "olga", "").error().code, Errc::state);
+  // Cleared after its acknowledgement: no longer retained.
+  tag("Denso", "robot.temperature", 60.0, "°C");
+  EXPECT_TRUE(loop_->retained_alarms().empty());
+  // Cleared before it: retained until an operator acknowledges it.
+  tag("Denso", "robot.temperature", 75.0, "°C");
+  tag("Denso", "robot.temperature", 60.0, "°C");
+  ASSERT_EQ(loop_->retained_alarms().size(), 1U);
+  EXPECT_FALSE(loop_->retained_alarms()[0].active);
+  ASSERT_TRUE(loop_->acknowledge(id, "piet", ""));
+  EXPECT_TRUE(loop_->retained_alarms().empty());
+  const historian::Event e = alarm_event(alarms.back(), "knowledge");
+  const auto fields = nlohmann::json::parse(e.fields);
+  EXPECT_EQ(fields["change"], "acknowledged");
+  EXPECT_TRUE(fields["acked"].get<bool>());
+  EXPECT_EQ(fields["acked_by"], "piet");
+  EXPECT_EQ(fields["id"], id);
+  EXPECT_EQ(e.message, "acknowledged: temperature 75.0 above the maximum 70.0");
 }
 
 TEST(KnowledgeLoopCreate, BadRulesAreRefusedNamingTheirPlace) {

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "sf/line/registers.hpp"
 #include "sf/line/smart_robot.hpp"
 
 namespace sf::line {
@@ -135,10 +136,15 @@ void robots(std::string& out, const Layout& layout) {
   for (const auto& r : layout.robots) {
     const std::string m = p(r.name);
     const char* type = r.kind == RobotKind::legacy_articulated ? "sf:ArticulatedRobot" : "sf:ScaraRobot";
+    // A legacy controller reports its drives' temperature (robot_controller::kTemperature).
+    const std::string limit =
+        r.legacy() ? fmt::format(" ;\n  sf:maxTemperature {}", number(robot_controller::kMaxTemperature))
+                   : "";
     out += fmt::format(
         "\n{} a {} , owl:NamedIndividual ; rdfs:label {} ;\n  sf:manufacturer {} ; sf:model {} ; "
-        "sf:canPerform {} ;\n  sf:controlledBy {}Controller ; sf:hasComponent {}Controller .\n",
-        m, type, literal(r.label), literal(r.vendor), literal(r.model), capabilities(r.capabilities), m, m);
+        "sf:canPerform {} ;\n  sf:controlledBy {}Controller ; sf:hasComponent {}Controller{} .\n",
+        m, type, literal(r.label), literal(r.vendor), literal(r.model), capabilities(r.capabilities), m, m,
+        limit);
     if (r.legacy()) {
       legacy_controller(out, m, r.label, r.controller, "robot controller");
     } else {

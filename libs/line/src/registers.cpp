@@ -108,6 +108,7 @@ constexpr RegisterEntry kMap[] = {
     {Table::input_registers, kToolY, "tool_y", "tool point y, signed mm"},
     {Table::input_registers, kToolZ, "tool_z", "tool point z, signed mm"},
     {Table::input_registers, kPhase, "phase", "step of the running job, 0 = idle"},
+    {Table::input_registers, kTemperature, "temperature", "the hottest drive's winding temperature, 0.1 °C"},
     {Table::input_registers, kStationBox, "station_box[k]",
      "16 + k: id of the box in place at the robot's station k (its tag reader), 0 = none"},
 };

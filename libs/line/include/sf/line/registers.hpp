@@ -121,7 +121,11 @@ inline constexpr std::uint16_t kJoint = 2;  // + joint (6): signed, mrad or mm
 inline constexpr std::uint16_t kToolX = 8;  // signed mm
 inline constexpr std::uint16_t kToolY = 9;
 inline constexpr std::uint16_t kToolZ = 10;
-inline constexpr std::uint16_t kPhase = 11;  // the job's step, 0 = idle
+inline constexpr std::uint16_t kPhase = 11;        // the job's step, 0 = idle
+inline constexpr std::uint16_t kTemperature = 12;  // the hottest drive's winding, 0.1 °C
+// The drives' rated winding temperature, °C: above it the controller's data sheet asks for a
+// stop (the ontology's sf:maxTemperature of the robot).
+inline constexpr double kMaxTemperature = 70.0;
 inline constexpr std::uint16_t kStationBox =
     kRepeatBase;  // + station of the robot: box id read by its tag reader, 0 = none
 std::span<const RegisterEntry> map();

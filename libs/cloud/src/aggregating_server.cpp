@@ -1,5 +1,7 @@
 #include "aggregating_server.hpp"
 
+#include "alarm_condition.hpp"
+
 #include <fmt/format.h>
 
 #include "sf/cloud/value_mapping.hpp"
@@ -189,6 +191,10 @@ void AggregatingServer::update(const LiveUpdate& update) {
     server_->with_address_space(
         [&](srv::AddressSpace& space) { (void)space.set_value(found->second, to_data_value(sample)); });
   });
+}
+
+void AggregatingServer::report(const Alarm& alarm) {
+  server_->raise_event(ua::NodeId(0, ua::id::Server), condition_event(alarm, ns_));
 }
 
 }  // namespace sf::cloud::detail

@@ -1,6 +1,7 @@
 // The cloud's aggregating OPC UA server (paper Fig. 6: supervisory clients see history): one
 // Variable per historian series, under Objects/<server name>/<browse path>, holding the live value
-// and answering HistoryRead (raw) from the historian.
+// and answering HistoryRead (raw) from the historian; the knowledge loop's alarms are its
+// Server object's events (alarm_condition.hpp).
 #pragma once
 
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <unordered_map>
 
 #include "sf/cloud/config.hpp"
+#include "sf/cloud/knowledge_loop.hpp"
 #include "sf/cloud/live_bus.hpp"
 #include "sf/historian/store.hpp"
 #include "sf/opcua/server/history.hpp"
@@ -47,6 +49,9 @@ class AggregatingServer {
   void add_series(const historian::Series& series);
   // Any thread. The Variable's value follows the live data.
   void update(const LiveUpdate& update);
+  // Any thread. A raise, clear or acknowledgement as an AlarmConditionType event of the Server
+  // object (OPC 10000-9 §5.8), to every client subscribed to its events.
+  void report(const Alarm& alarm);
 
  private:
   opcua::NodeId folder_for(opcua::server::AddressSpace& space, const std::string& path);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <mutex>
 
 #include "aggregating_server.hpp"
@@ -22,6 +23,8 @@ struct Gateway::Impl {
   std::unique_ptr<historian::BufferedStore> store;
   std::unique_ptr<detail::SampleWriter> writer;
   std::unique_ptr<detail::AggregatingServer> aggregating;
+  // The aggregating server while it runs: the alarms' events go there too (any thread).
+  std::atomic<detail::AggregatingServer*> alarm_events{nullptr};
   std::unique_ptr<KnowledgeLoop> knowledge;
   LiveBus::Subscription to_knowledge;
   LiveBus::Subscription to_aggregating;
@@ -56,7 +59,7 @@ Result<std::string> file_or(const std::filesystem::path& file, std::string_view 
 
 // Alarms go to the historian as events of the server "knowledge" (through the writer, as the
 // servers' events do), to the live bus (applications follow them as they follow servers'
-// events) and to the log.
+// events), to the aggregating server's subscribers as condition events, and to the log.
 Status Gateway::Impl::start_knowledge(const KnowledgeConfig& k) {
   auto layout = k.layout.empty() ? line::default_layout() : line::load_layout(k.layout);
   if (!layout) {
@@ -72,12 +75,16 @@ Status Gateway::Impl::start_knowledge(const KnowledgeConfig& k) {
   o.rules = std::move(*rules);
   o.rules_name = k.rules.empty() ? "rules/candy-factory.rules" : k.rules.string();
   o.due_after = k.due_after;
-  auto loop = KnowledgeLoop::create(*layout, o, [w = writer.get(), b = &bus](const Alarm& a) {
+  o.clock = options.clock;
+  auto loop = KnowledgeLoop::create(*layout, o, [this](const Alarm& a) {
     log::get("knowledge")
-        ->warn("{} {}: {} (rule {})", a.active ? "alarm" : "cleared", a.entity, a.message, a.rule);
+        ->warn("alarm {} {}: {} (rule {})", to_string(a.change), a.entity, a.message, a.rule);
     auto event = alarm_event(a, kKnowledgeServer);
-    b->publish(event);
-    w->push(std::move(event));
+    bus.publish(event);
+    writer->push(std::move(event));
+    if (auto* server = alarm_events.load()) {
+      server->report(a);
+    }
   });
   if (!loop) {
     return loop.error().with_context("knowledge");
@@ -128,6 +135,7 @@ Status Gateway::Impl::start_aggregating() {
     }
   });
   on_series = [server = aggregating.get()](const historian::Series& s) { server->add_series(s); };
+  alarm_events = aggregating.get();
   // Series known from earlier runs have history already: show them from the start.
   if (auto known = store->list_series()) {
     for (const historian::Series& s : *known) {
@@ -224,6 +232,7 @@ void Gateway::stop() {
   }
   g.writer->stop();
   g.to_aggregating = LiveBus::Subscription();
+  g.alarm_events = nullptr;
   if (g.aggregating) {
     g.aggregating->stop();
   }
@@ -256,6 +265,10 @@ GatewayStatus Gateway::status() const {
 }
 
 const KnowledgeLoop* Gateway::knowledge() const {
+  return impl_->knowledge.get();
+}
+
+KnowledgeLoop* Gateway::knowledge() {
   return impl_->knowledge.get();
 }
 

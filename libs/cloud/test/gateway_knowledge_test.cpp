@@ -1,6 +1,7 @@
-// The knowledge loop inside the gateway: an order service's OPC UA server publishes inspections
-// and a machine's fault text; the gateway subscribes, the loop reasons, and the alarms land in the
-// historian as events of the server "knowledge", raised and cleared.
+// The knowledge loop inside the gateway: an order service's OPC UA server publishes inspections,
+// a machine's fault text, a robot's temperature and an axis position; the gateway subscribes, the
+// loop reasons, and the alarms land in the historian as events of the server "knowledge", raised
+// and cleared, and reach node-opcua's client as condition events of the aggregating server.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -9,6 +10,8 @@
 #include "counter_server.hpp"
 #include "sf/cloud/gateway.hpp"
 #include "sf/line/inspection.hpp"
+#include "sf/opcua/units.hpp"
+#include "sf/testing/node_peer.hpp"
 
 namespace sf::cloud {
 namespace {
@@ -37,6 +40,13 @@ class ShopFloorServer {
       const ua::NodeId conveyor = object(space, "Conveyor3", machines);
       variable(space, "LastInspection", orders);
       variable(space, "Fault", conveyor);
+      // Tags as a controller publishes them: SI values with their EngineeringUnits.
+      const ua::NodeId denso = object(space, "Denso", machines);
+      tag(space, "robot.temperature", object(space, "Tags", denso, "Denso"),
+          ua::unece_unit("CEL", "°C", "degree Celsius"));
+      const ua::NodeId robot = object(space, "ScaraRobot1", machines);
+      tag(space, "axis1.position", object(space, "Tags", robot, "ScaraRobot1"),
+          ua::unece_unit("C81", "rad", "radian"));
     });
     ok_ = server_->start().ok();
   }
@@ -48,11 +58,17 @@ class ShopFloorServer {
       (void)space.set_value(ua::NodeId(ns_, ua::String(name)), ua::DataValue(ua::Variant(ua::String(text))));
     });
   }
+  void set(const std::string& name, double v) {
+    server_->with_address_space([&](srv::AddressSpace& space) {
+      (void)space.set_value(ua::NodeId(ns_, ua::String(name)), ua::DataValue(ua::Variant(v)));
+    });
+  }
 
  private:
-  ua::NodeId object(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent) const {
+  ua::NodeId object(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent,
+                    const std::string& owner = {}) const {
     srv::ObjectSpec o;
-    o.node_id = ua::NodeId(ns_, ua::String(name + ".Object"));
+    o.node_id = ua::NodeId(ns_, ua::String(owner + name + ".Object"));
     o.browse_name = ua::QualifiedName(ns_, name);
     o.parent = parent;
     o.reference_type = ua::NodeId(
@@ -69,6 +85,27 @@ class ShopFloorServer {
     v.value = ua::DataValue(ua::Variant(ua::String("")));
     (void)space.add_variable(v);
   }
+  // A Double variable with its EngineeringUnits property (OPC 10000-8 §5.6.3).
+  void tag(srv::AddressSpace& space, const std::string& name, const ua::NodeId& parent,
+           const ua::EUInformation& unit) const {
+    srv::VariableSpec v;
+    v.node_id = ua::NodeId(ns_, ua::String(name));
+    v.browse_name = ua::QualifiedName(ns_, name);
+    v.parent = parent;
+    v.reference_type = ua::NodeId(0, ua::id::HasComponent);
+    v.data_type = ua::NodeId(0, ua::id::Double);
+    v.value = ua::DataValue(ua::Variant(0.0));
+    (void)space.add_variable(v);
+    srv::VariableSpec eu;
+    eu.node_id = ua::NodeId(ns_, ua::String(name + ".EngineeringUnits"));
+    eu.browse_name = ua::QualifiedName(0, "EngineeringUnits");
+    eu.parent = v.node_id;
+    eu.reference_type = ua::NodeId(0, ua::id::HasProperty);
+    eu.type_definition = ua::NodeId(0, ua::id::PropertyType);
+    eu.data_type = ua::NodeId(0, ua::id::EUInformation);
+    eu.value = ua::DataValue(ua::Variant(ua::ExtensionObject::make(unit)));
+    (void)space.add_variable(eu);
+  }
 
   std::unique_ptr<srv::Server> server_;
   std::uint16_t ns_ = 0;
@@ -84,18 +121,24 @@ std::vector<historian::Event> knowledge_events(historian::Store& store) {
   return events ? *events : std::vector<historian::Event>{};
 }
 
+// A gateway of the shop floor with the knowledge loop (the built-in layout, ontology and rules),
+// subscribed to the machines' variables down to `depth` levels below Machines.
+GatewayConfig knowledge_gateway(const TempDir& dir, const ShopFloorServer& shop_floor, unsigned depth) {
+  ServerConfig server =
+      server_config("shop-floor", "opc.tcp://127.0.0.1:" + std::to_string(shop_floor.port()),
+                    {path_rule("/Objects/OrderService", 1), path_rule("/Objects/Machines", depth)});
+  server.publishing_interval_ms = 20;
+  server.sampling_interval_ms = 10;
+  GatewayConfig config = test::sqlite_gateway(dir, server);
+  config.knowledge = KnowledgeConfig{};
+  return config;
+}
+
 TEST(GatewayKnowledge, AMismatchedBoxAndAMachineFaultBecomeAlarmsInTheHistorian) {
   ShopFloorServer shop_floor;
   ASSERT_TRUE(shop_floor.ok());
   TempDir dir;
-  ServerConfig server =
-      server_config("shop-floor", "opc.tcp://127.0.0.1:" + std::to_string(shop_floor.port()),
-                    {path_rule("/Objects/OrderService", 1), path_rule("/Objects/Machines", 2)});
-  server.publishing_interval_ms = 20;
-  server.sampling_interval_ms = 10;
-  GatewayConfig config = test::sqlite_gateway(dir, server);
-  config.knowledge = KnowledgeConfig{};  // the built-in layout, ontology and rules
-  auto gateway = Gateway::create(config);
+  auto gateway = Gateway::create(knowledge_gateway(dir, shop_floor, 2));  // Fault, not the tags
   ASSERT_TRUE(gateway) << gateway.error().describe();
   ASSERT_NE((*gateway)->knowledge(), nullptr);
   ASSERT_TRUE((*gateway)->start());
@@ -124,6 +167,151 @@ TEST(GatewayKnowledge, AMismatchedBoxAndAMachineFaultBecomeAlarmsInTheHistorian)
   EXPECT_EQ(by_rule["fault"], (std::vector<bool>{true, false}));
   EXPECT_EQ((*gateway)->knowledge()->active_alarms().size(), 1U);
   (*gateway)->stop();
+}
+
+// node-opcua's client (tests/peers/opcua/event_client.mjs) subscribed to the aggregating
+// server's events: one JSON line per event.
+class EventClient {
+ public:
+  // Starts the client and waits until its event monitored item exists.
+  Status start(std::uint16_t port) {
+    ProcessOptions o;
+    o.argv = {testing::find_node()->string(),
+              (testing::source_dir() / "tests" / "peers" / "opcua" / "event_client.mjs").string(),
+              "opc.tcp://127.0.0.1:" + std::to_string(port)};
+    o.cwd = testing::source_dir();
+    o.in = Stdio::pipe();
+    o.out = Stdio::pipe();
+    o.err = Stdio::inherit();
+    auto started = Process::spawn(std::move(o));
+    if (!started) {
+      return started.error();
+    }
+    process_ = std::move(*started);
+    auto ready = process_.wait_for_line([](const std::string& line) { return line == "SUBSCRIBED"; },
+                                        std::chrono::seconds(90));
+    if (!ready) {
+      return ready.error();
+    }
+    return {};
+  }
+  ~EventClient() { process_.close_and_wait(std::chrono::seconds(10)); }
+
+  // The next event of the condition `rule`; events of other conditions are kept for later.
+  std::optional<nlohmann::json> next(std::string_view rule) {
+    for (auto it = pending_.begin(); it != pending_.end(); ++it) {
+      if ((*it)["conditionName"] == rule) {
+        auto e = *it;
+        pending_.erase(it);
+        return e;
+      }
+    }
+    while (true) {
+      auto line = process_.read_line(std::chrono::seconds(30));
+      if (!line) {
+        return std::nullopt;
+      }
+      auto e = nlohmann::json::parse(*line, nullptr, false);
+      if (e.is_discarded()) {
+        continue;
+      }
+      if (e["conditionName"] == rule) {
+        return e;
+      }
+      pending_.push_back(std::move(e));
+    }
+  }
+
+ private:
+  Process process_;
+  std::vector<nlohmann::json> pending_;
+};
+
+// A raise: active, unacknowledged, retained, with the rule's message.
+void expect_raised(const std::optional<nlohmann::json>& e, const std::string& message) {
+  ASSERT_TRUE(e.has_value()) << "no event";
+  EXPECT_EQ((*e)["eventType"], "ns=0;i=2915") << e->dump();  // AlarmConditionType
+  EXPECT_EQ((*e)["message"], message) << e->dump();
+  EXPECT_EQ((*e)["activeState"], "Active") << e->dump();
+  EXPECT_EQ((*e)["activeStateId"], true) << e->dump();
+  EXPECT_EQ((*e)["ackedStateId"], false) << e->dump();
+  EXPECT_EQ((*e)["retain"], true) << e->dump();
+  EXPECT_EQ((*e)["severity"], 700) << e->dump();
+  // ConditionId, selected as the NodeId attribute of ConditionType: the alarm's id.
+  const std::string condition = (*e)["conditionId"].is_string() ? (*e)["conditionId"].get<std::string>() : "";
+  EXPECT_NE(condition.find(";s=knowledge/" + (*e)["conditionName"].get<std::string>() + "-"),
+            std::string::npos)
+      << e->dump();
+}
+
+void expect_cleared(const std::optional<nlohmann::json>& e, const nlohmann::json& raised) {
+  ASSERT_TRUE(e.has_value()) << "no event";
+  EXPECT_EQ((*e)["activeState"], "Inactive") << e->dump();
+  EXPECT_EQ((*e)["activeStateId"], false) << e->dump();
+  EXPECT_EQ((*e)["conditionId"], raised["conditionId"]) << e->dump();
+  EXPECT_EQ((*e)["sourceName"], raised["sourceName"]) << e->dump();
+  EXPECT_EQ((*e)["message"], "cleared: " + raised["message"].get<std::string>()) << e->dump();
+}
+
+TEST(GatewayKnowledge, NodeOpcuaReceivesTheAlarmsAsConditionEventsOfTheAggregatingServer) {
+  if (auto why = testing::node_unavailable()) {
+    GTEST_SKIP() << *why;
+  }
+  ShopFloorServer shop_floor;
+  ASSERT_TRUE(shop_floor.ok());
+  TempDir dir;
+  GatewayConfig config = knowledge_gateway(dir, shop_floor, 3);
+  config.aggregating_server.enabled = true;
+  config.aggregating_server.host = "127.0.0.1";
+  config.aggregating_server.port = 0;
+  auto gateway = Gateway::create(config);
+  ASSERT_TRUE(gateway) << gateway.error().describe();
+  ASSERT_TRUE((*gateway)->start());
+  ASSERT_TRUE(eventually([&] { return shop_floor.monitored_items() == 4; })) << shop_floor.monitored_items();
+  EventClient client;
+  const Status subscribed = client.start((*gateway)->status().aggregating_port);
+  ASSERT_TRUE(subscribed) << subscribed.error().describe();
+
+  // Each value goes back only once the client has seen the raise: no value is sampled away.
+  shop_floor.set("robot.temperature", 74.5);  // °C; the DENSO's maximum is 70.0
+  const auto hot = client.next("temperatureHigh");
+  expect_raised(hot, "temperature 74.5 above the maximum 70.0");
+  EXPECT_EQ((*hot)["sourceName"], "Denso");
+  shop_floor.set("robot.temperature", 65.0);
+  expect_cleared(client.next("temperatureHigh"), *hot);
+
+  shop_floor.set("axis1.position", 2.7);  // rad: 154.699°, the travel is -149.0..149.0°
+  const auto out = client.next("axisTravel");
+  expect_raised(out, "position 154.699 outside -149.0..149.0");
+  EXPECT_EQ((*out)["sourceName"], "ScaraRobot1Axis1");
+  shop_floor.set("axis1.position", 0.5);
+  expect_cleared(client.next("axisTravel"), *out);
+
+  line::InspectionRecord box{"dora-1", 3, "small-box", {{"toffee", 4}}, {{"toffee", 3}}, 72.0, 20.0};
+  shop_floor.set("LastInspection", line::format_inspection(box));
+  const auto short_one = client.next("contentMismatch");
+  expect_raised(short_one, "toffee: ordered 4, the box holds 3");
+  box.counted["toffee"] = 4;  // refilled and inspected again
+  shop_floor.set("LastInspection", line::format_inspection(box));
+  expect_cleared(client.next("contentMismatch"), *short_one);
+
+  // Cleared, not yet acknowledged: retained until an operator acknowledges it.
+  auto* knowledge = (*gateway)->knowledge();
+  ASSERT_EQ(knowledge->retained_alarms().size(), 3U);
+  std::string id;
+  for (const auto& a : knowledge->retained_alarms()) {
+    id = a.rule == "temperatureHigh" ? a.id : id;
+  }
+  ASSERT_TRUE(knowledge->acknowledge(id, "olga", "checked the fan"));
+  const auto acked = client.next("temperatureHigh");
+  ASSERT_TRUE(acked.has_value());
+  EXPECT_EQ((*acked)["ackedStateId"], true) << acked->dump();
+  EXPECT_EQ((*acked)["activeStateId"], false) << acked->dump();
+  EXPECT_EQ((*acked)["retain"], false) << acked->dump();
+  EXPECT_EQ((*acked)["conditionId"], (*hot)["conditionId"]);
+  (*gateway)->stop();
+  // The historian holds the same seven events.
+  EXPECT_EQ(knowledge_events((*gateway)->store()).size(), 7U);
 }
 
 TEST(GatewayKnowledge, AKnowledgeSectionThatCannotBeReadStopsTheGatewayAtCreate) {

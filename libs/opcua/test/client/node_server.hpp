@@ -14,29 +14,13 @@
 
 #include "../collector.hpp"
 #include "sf/core/process.hpp"
+#include "sf/testing/node_peer.hpp"
 
 namespace sf::opcua::test {
 
-// The repository: $SF_SOURCE_DIR (set for every unit test by sf_unit_test).
-inline std::filesystem::path source_dir() {
-  const char* env = std::getenv("SF_SOURCE_DIR");
-  return env != nullptr ? std::filesystem::path(env) : std::filesystem::current_path();
-}
-
-inline std::optional<std::filesystem::path> find_node() {
-  return find_program("node");
-}
-
-// Why node-opcua tests cannot run here, or nullopt if they can.
-inline std::optional<std::string> node_unavailable() {
-  if (!find_node()) {
-    return "node is not on PATH";
-  }
-  if (!std::filesystem::exists(source_dir() / "node_modules" / "node-opcua")) {
-    return "node_modules/node-opcua is missing (npm ci)";
-  }
-  return std::nullopt;
-}
+using sf::testing::find_node;
+using sf::testing::node_unavailable;
+using sf::testing::source_dir;
 
 // One node-opcua server process. It exits when its stdin closes (stop) or on SIGKILL (kill).
 class NodeServer {

@@ -97,6 +97,8 @@ class Gateway {
                                            const std::string& method, std::vector<opcua::Variant> inputs);
   // The knowledge loop when the configuration has one (alarms, its status); else null.
   [[nodiscard]] const KnowledgeLoop* knowledge() const;
+  // The same, to acknowledge its alarms (KnowledgeLoop::acknowledge).
+  [[nodiscard]] KnowledgeLoop* knowledge();
 
   struct Impl;
 

@@ -241,7 +241,7 @@ void register_faults(CLI::App& plant, CommandResult& result) {
   faults->add_flag("--json", as_json, "Print the answer as JSON");
   const char* kinds =
       "jam:BELT, dispenser-empty:DISPENSER, mixup:DISPENSER, axis-fault:ROBOT:AXIS[:CODE], cable-cut:ROBOT,\n"
-      "plc-unreachable:MACHINE, plc-exception:MACHINE[:CODE], box-drop:BOX";
+      "plc-unreachable:MACHINE, plc-exception:MACHINE[:CODE], overheat:ROBOT, box-drop:BOX";
   for (const char* op : {"inject", "clear"}) {
     auto* cmd = faults->add_subcommand(op, std::string(op) + " a fault: " + kinds);
     cmd->add_option("fault", fault_text, "The fault, e.g. jam:conveyor2")->required();

@@ -138,6 +138,12 @@ TEST(GatewayLegacyRobot, LoadsCandiesThroughItsControllersHandshake) {
   EXPECT_TRUE(has_tag(s, "robot.joint3"));
   EXPECT_FALSE(has_tag(s, "robot.joint4"));
   EXPECT_EQ(std::get<std::int64_t>(tag(s, "robot.tool_z").value), 950);
+  // Its drives' temperature, from 0.1 °C in the register to °C, warmed by the job's moves.
+  const Tag& temperature = tag(s, "robot.temperature");
+  EXPECT_EQ(temperature.unit, "CEL");
+  EXPECT_GT(std::get<double>(temperature.value), 25.0);
+  EXPECT_LT(std::get<double>(temperature.value), 30.0);
+  EXPECT_EQ(tag(s, "robot.phase").unit, "");
 }
 
 TEST(GatewayLegacyRobot, DeclinesCandiesItHasNoDispenserOf) {

@@ -139,6 +139,14 @@ TEST_F(MachineModelTest, StatusBecomesValuesAndOnlyChangesArePublished) {
       value(m, "PackML.BaseStateMachine.MachineState.CurrentState").value.get_if<ua::LocalizedText>()->text,
       "Stopped");
   EXPECT_EQ(*value(m, "Tags.sensor.temperature").value.get_if<double>(), 21.5);
+  // A tag with a unit has its EngineeringUnits (OPC 10000-8 §5.6.3), one without has none.
+  const ua::DataValue eu = value(m, "Tags.sensor.temperature.EngineeringUnits");
+  const auto* units = eu.value.get_if<ua::ExtensionObject>();
+  ASSERT_NE(units, nullptr);
+  ASSERT_NE(units->get_if<ua::EUInformation>(), nullptr);
+  EXPECT_EQ(units->get_if<ua::EUInformation>()->display_name.text, "°C");
+  EXPECT_EQ(units->get_if<ua::EUInformation>()->unit_id, 4408652);  // CEL, as UNECE Rec 20 lists it
+  EXPECT_FALSE(space.contains(m.node("Tags.plc.jobs_done.EngineeringUnits")));
   EXPECT_TRUE(publisher.changes(machine.status(), clock.utc_now()).empty());
 
   // Reset: the state and the nested machines' states change, nothing else (durations are

@@ -93,6 +93,11 @@ TEST_F(SmartRobotTest, ALoadPutsTheCandiesIntoTheirSlotsAndReportsDone) {
   EXPECT_EQ(during.job, "j1");
   ASSERT_NE(tag(during, "axis1.position"), nullptr);
   EXPECT_EQ(tag(during, "axis1.position")->quality, Tag::Quality::good);
+  // SI with their units (UNECE codes): radians for θ1, metres for z.
+  EXPECT_EQ(tag(during, "axis1.position")->unit, "C81");
+  ASSERT_NE(tag(during, "axis3.position"), nullptr);
+  EXPECT_EQ(tag(during, "axis3.position")->unit, "MTR");
+  EXPECT_EQ(tag(during, "axis1.state")->unit, "");
   EXPECT_EQ(std::get<std::string>(tag(during, "axis1.state")->value), "operation enabled");
 
   ASSERT_TRUE(until_outcomes(1));

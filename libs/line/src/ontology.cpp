@@ -119,7 +119,7 @@ void smart_robot(std::string& out, const RobotSpec& r) {
     std::string travel;
     if (a <= kArmAxes) {
       const auto& limit = r.scara.limits[a - 1];
-      const double scale = a == 3 ? 1000.0 : 180.0 / std::numbers::pi;
+      const double scale = a - 1 == kZAxis ? 1000.0 : 180.0 / std::numbers::pi;
       travel = fmt::format(" ; sf:minPosition {} ; sf:maxPosition {}",
                            number(std::round(limit.min * scale * 10) / 10),
                            number(std::round(limit.max * scale * 10) / 10));

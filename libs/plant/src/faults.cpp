@@ -12,8 +12,9 @@ namespace sf::plant {
 namespace {
 
 constexpr FaultKind kKinds[] = {
-    FaultKind::jam,       FaultKind::dispenser_empty, FaultKind::mixup,         FaultKind::axis_fault,
-    FaultKind::cable_cut, FaultKind::plc_unreachable, FaultKind::plc_exception, FaultKind::box_drop};
+    FaultKind::jam,           FaultKind::dispenser_empty, FaultKind::mixup,
+    FaultKind::axis_fault,    FaultKind::cable_cut,       FaultKind::plc_unreachable,
+    FaultKind::plc_exception, FaultKind::overheat,        FaultKind::box_drop};
 constexpr std::uint16_t kDefaultAxisError = 0x7310;  // CiA 301/402: speed (overspeed)
 constexpr std::uint32_t kDefaultException = 4;       // MB AP §7: server device failure
 
@@ -50,6 +51,8 @@ std::string_view to_string(FaultKind kind) {
       return "plc-unreachable";
     case FaultKind::plc_exception:
       return "plc-exception";
+    case FaultKind::overheat:
+      return "overheat";
     case FaultKind::box_drop:
       return "box-drop";
   }

@@ -100,6 +100,10 @@ Status Plant::check(const FaultSpec& f) const {
     case FaultKind::plc_unreachable:
     case FaultKind::plc_exception:
       return plc(f.target) != nullptr ? Status{} : unknown("machine with a PLC");
+    case FaultKind::overheat: {
+      const auto* robot = l.robot(f.target);
+      return robot != nullptr && robot->legacy() ? Status{} : unknown("legacy robot");
+    }
     case FaultKind::box_drop:
       return Status{};
   }
@@ -165,6 +169,9 @@ Status Plant::apply(const FaultSpec& f, bool on) {
       world_.record(on ? EventKind::fault_raised : EventKind::fault_cleared, f.target, 0, -1, {}, format(f));
       break;
     }
+    case FaultKind::overheat:
+      world_.set_cooling_failed(static_cast<std::size_t>(l.robot(f.target) - l.robots.data()), on);
+      break;
     case FaultKind::box_drop: {
       std::uint32_t id = 0;
       std::from_chars(f.target.data(), f.target.data() + f.target.size(), id);

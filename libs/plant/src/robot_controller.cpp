@@ -68,6 +68,7 @@ void RobotControllerPlc::run(World& world, double dt) {
   } else if (job_.phase() == JobHandshake::Phase::fault && next_ < plan_.size()) {
     move(world, dt);  // after a failure the arm still goes home
   }
+  world.heat_drives(robot_, dt, job_.phase() == JobHandshake::Phase::busy || next_ < plan_.size());
   fault_code_ = job_.code();
   publish(world);
 }
@@ -210,6 +211,8 @@ void RobotControllerPlc::publish(const World& world) {
   bank_.set_input_register(kToolX, static_cast<std::uint16_t>(milli(tool.pose.position.x)));
   bank_.set_input_register(kToolY, static_cast<std::uint16_t>(milli(tool.pose.position.y)));
   bank_.set_input_register(kToolZ, static_cast<std::uint16_t>(milli(tool.pose.position.z)));
+  bank_.set_input_register(kTemperature,
+                           static_cast<std::uint16_t>(std::lround(tool.drive_temperature_c * 10.0)));
   bank_.set_input_register(
       kPhase, static_cast<std::uint16_t>(job_.phase() == JobHandshake::Phase::busy ? next_ + 1 : 0));
 }

@@ -229,6 +229,24 @@ void World::set_tool(std::size_t robot, const motion::ToolPose& pose, std::vecto
   tools_[robot].joints = std::move(joints);
 }
 
+// A servo motor's windings approach the ambient temperature plus the rise of their load (while
+// the arm moves) plus the rise of lost cooling, with a thermal time constant of minutes.
+void World::heat_drives(std::size_t robot, double dt, bool moving) {
+  constexpr double kLoadRiseC = 30.0;
+  constexpr double kNoCoolingRiseC = 60.0;
+  constexpr double kThermalTauS = 300.0;
+  Tool& tool = tools_.at(robot);
+  const double target =
+      kAmbientTemperatureC + (moving ? kLoadRiseC : 0.0) + (tool.cooling_failed ? kNoCoolingRiseC : 0.0);
+  tool.drive_temperature_c += (target - tool.drive_temperature_c) * (1.0 - std::exp(-dt / kThermalTauS));
+}
+
+void World::set_cooling_failed(std::size_t robot, bool failed) {
+  tools_.at(robot).cooling_failed = failed;
+  record(failed ? EventKind::fault_raised : EventKind::fault_cleared, layout_.robots.at(robot).name, 0, -1,
+         {}, failed ? "overheat: the drives' cooling failed" : "overheat cleared");
+}
+
 void World::set_gripper(std::size_t robot, bool closed) {
   Tool& tool = tools_.at(robot);
   if (tool.gripper == closed) {

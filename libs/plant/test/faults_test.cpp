@@ -53,6 +53,7 @@ TEST(PlantFaults, UnknownTargetsAreRefused) {
   EXPECT_FALSE(rig.plant().inject(fault("mixup:toshiba-mint")));
   EXPECT_FALSE(rig.plant().inject(fault("mixup:toshiba")));  // a robot is not a dispenser
   EXPECT_FALSE(rig.plant().clear(fault("mixup:conveyor2")));
+  EXPECT_FALSE(rig.plant().inject(fault("overheat:scara-robot-1")));  // its slave has no temperature
   EXPECT_TRUE(rig.plant().active_faults().empty());
 }
 
@@ -204,6 +205,23 @@ TEST(PlantFaults, APlcAnsweringExceptionsGivesTheTypedCode) {
   EXPECT_EQ(*read.error().exception, modbus::ExceptionCode::server_device_busy);
   ASSERT_TRUE(rig.plant().clear(fault("plc-exception:uploader")));
   EXPECT_TRUE(rig.plc("uploader").read_input_registers(0, 2));
+}
+
+// The legacy controller's temperature register (0.1 °C): the drives at ambient, then heating
+// with their cooling lost past the robot's limit, then cooling back once it is repaired.
+TEST(PlantFaults, AnOverheatingRobotReportsItsDrivesTemperatureRisingAndFalling) {
+  Rig rig;
+  const auto temperature = [&] { return rig.ir("denso", robot_controller::kTemperature) / 10.0; };
+  rig.run_for(10ms);
+  EXPECT_EQ(temperature(), kAmbientTemperatureC);
+  ASSERT_TRUE(rig.plant().inject(fault("overheat:denso")));
+  EXPECT_EQ(format(rig.plant().active_faults().at(0)), "overheat:denso");
+  rig.run_for(std::chrono::minutes(10));
+  EXPECT_GT(temperature(), robot_controller::kMaxTemperature);
+  ASSERT_TRUE(rig.plant().clear(fault("overheat:denso")));
+  rig.run_for(std::chrono::minutes(10));
+  EXPECT_LT(temperature(), robot_controller::kMaxTemperature);
+  EXPECT_GT(temperature(), kAmbientTemperatureC);
 }
 
 TEST(PlantFaults, ADroppedBoxIsLostAndCounted) {

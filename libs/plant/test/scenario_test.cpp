@@ -98,6 +98,7 @@ TEST(PlantScenario, TheToshibaLoadsThroughItsJobHandshake) {
   rig.convey({"conveyor1", "conveyor3"}, 0);
   rig.hr("toshiba", robot_controller::kCandyType, candy(rig, "toffee"));
   rig.hr("toshiba", robot_controller::kSlot, 29);
+  EXPECT_EQ(rig.ir("toshiba", robot_controller::kTemperature), 250);  // 25.0 °C: drives at rest
   rig.coil("toshiba", robot_controller::kStart, true);
   // While the job runs the controller reports busy, then a part in the gripper.
   EXPECT_TRUE(rig.run_until([&] { return rig.di("toshiba", robot_controller::kBusy); }, 100ms));
@@ -107,6 +108,7 @@ TEST(PlantScenario, TheToshibaLoadsThroughItsJobHandshake) {
   rig.step();
   EXPECT_TRUE(rig.di("toshiba", robot_controller::kReady));
   EXPECT_EQ(rig.plant().snapshot().boxes.at(0).slots.at(29), "toffee");
+  EXPECT_GT(rig.ir("toshiba", robot_controller::kTemperature), 250);  // warmed by the moves
   // The joints it reports put the tool where it says it is.
   const auto& spec = *rig.world().layout().robot("toshiba");
   motion::ScaraJoints q{};

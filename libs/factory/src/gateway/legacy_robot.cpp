@@ -52,14 +52,21 @@ class LegacyRobotLogic final : public DeviceLogic {
       stations.push_back(s.substr(s.find('/') + 1));
     }
     const std::size_t joints = robot_.kind == line::RobotKind::legacy_articulated ? 6 : 4;
-    return tag_specs(rc::map(),
-                     {{"box_in_place[k]", stations},
-                      {"station_box[k]", stations},
-                      {"joint[j]", std::vector<std::string>(joints), true}},
-                     {{"joint[j]", TagType::signed_word},
-                      {"tool_x", TagType::signed_word},
-                      {"tool_y", TagType::signed_word},
-                      {"tool_z", TagType::signed_word}});
+    auto specs = tag_specs(rc::map(),
+                           {{"box_in_place[k]", stations},
+                            {"station_box[k]", stations},
+                            {"joint[j]", std::vector<std::string>(joints), true}},
+                           {{"joint[j]", TagType::signed_word},
+                            {"tool_x", TagType::signed_word},
+                            {"tool_y", TagType::signed_word},
+                            {"tool_z", TagType::signed_word},
+                            {"temperature", TagType::tenths}});
+    for (auto& spec : specs) {
+      if (spec.name == "temperature") {
+        spec.unit = "CEL";  // 0.1 °C in the register, °C once scaled
+      }
+    }
+    return specs;
   }
 
   [[nodiscard]] Result<std::chrono::nanoseconds> duration(const Operation& op) const override {

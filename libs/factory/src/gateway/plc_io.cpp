@@ -167,7 +167,7 @@ std::vector<Tag> PlcIo::tags(Tag::Quality quality, const std::string& reason) co
   std::vector<Tag> out;
   out.reserve(specs_.size());
   for (const auto& s : specs_) {
-    Tag tag{prefix_ + "." + s.name, false, quality, reason};
+    Tag tag{prefix_ + "." + s.name, false, quality, reason, s.unit};
     const std::uint16_t raw = word(s.table, s.address);
     switch (s.type) {
       case TagType::bit:

@@ -27,6 +27,7 @@ struct TagSpec {
   modbus::Table table = modbus::Table::coils;
   std::uint16_t address = 0;
   TagType type = TagType::bit;
+  std::string unit{};  // Tag::unit of the value as shown (after scaling)
 };
 
 // An entry repeated per station, candy type or joint (kRepeatBase + index):

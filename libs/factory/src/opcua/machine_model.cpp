@@ -11,6 +11,7 @@
 #include "sf/core/log.hpp"
 #include "sf/line/ontology.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "sf/opcua/units.hpp"
 
 namespace sf::factory {
 
@@ -193,22 +194,30 @@ Result<MachineModel> MachineModel::create(srv::AddressSpace& space, const Identi
   return m;
 }
 
-Status MachineModel::add_tag(srv::AddressSpace& space, const std::string& tag, const ua::DataValue& value) {
+Status MachineModel::add_tag(srv::AddressSpace& space, const ModelValue& value) {
+  const std::string& tag = value.name;
   const std::string path = "Tags." + tag;
   auto spec = variable_spec(node(path), QualifiedName(ns_, ua::String(tag)), node("Tags"),
-                            static_cast<std::uint32_t>(value.value.type()), false);
-  spec.value = value;
+                            static_cast<std::uint32_t>(value.value.value.type()), false);
+  spec.value = value.value;
   historize(spec);
   SF_TRY(space.add_variable(spec));
   auto reason =
       variable_spec(node(path + ".Reason"), QualifiedName(ns_, "Reason"), node(path), ua::id::String, true);
   reason.value = ua::Variant(std::string());
   SF_TRY(space.add_variable(reason));
-  tags_.emplace(tag, value.value.type());
+  if (const auto eu = ua::unece_unit(value.unit)) {
+    auto units = variable_spec(node(path + ".EngineeringUnits"), QualifiedName(0, "EngineeringUnits"),
+                               node(path), ua::id::EUInformation, true);
+    units.value = ua::Variant(ua::ExtensionObject::make(*eu));
+    SF_TRY(space.add_variable(units));
+  }
+  tags_.emplace(tag, value.value.value.type());
   return {};
 }
 
 void MachineModel::remove_tag(srv::AddressSpace& space, const std::string& tag) {
+  (void)space.delete_node(node(fmt::format("Tags.{}.EngineeringUnits", tag)));
   (void)space.delete_node(node(fmt::format("Tags.{}.Reason", tag)));
   (void)space.delete_node(node("Tags." + tag));
   tags_.erase(tag);
@@ -227,7 +236,7 @@ void MachineModel::apply(srv::AddressSpace& space, const std::vector<ModelValue>
     } else if (v.value.value.is_empty() && v.value.status == ua::status::BadNotFound) {
       remove_tag(space, v.name);
     } else if (tag == tags_.end()) {
-      written = add_tag(space, v.name, v.value);
+      written = add_tag(space, v);
     } else {
       if (tag->second != v.value.value.type()) {  // the controller changed the tag's type
         if (auto* n = space.find_mutable_as<srv::VariableNode>(node("Tags." + v.name))) {

@@ -128,6 +128,7 @@ std::vector<ModelValue> StatusPublisher::values(const ControllerStatus& status, 
   }
   for (const Tag& tag : status.tags) {
     add(ModelValue::Kind::tag, tag.name, tag_variant(tag), status_of(tag.quality));
+    out.back().unit = tag.unit;
     add(ModelValue::Kind::tag_reason, tag.name,
         tag.quality == Tag::Quality::good ? std::string() : tag.reason);
   }

@@ -146,22 +146,24 @@ ControllerStatus SmartRobot::status() const {
   s.fault = arm_->link_up() ? "" : arm_->link_error();
   const auto quality = arm_->link_up() ? Tag::Quality::good : Tag::Quality::bad;
   const std::string reason = arm_->link_up() ? "" : arm_->link_error();
-  auto tag = [&](std::string name, decltype(Tag::value) v) {
-    s.tags.push_back({std::move(name), std::move(v), quality, reason});
+  auto tag = [&](std::string name, decltype(Tag::value) v, std::string unit = {}) {
+    s.tags.push_back({std::move(name), std::move(v), quality, reason, std::move(unit)});
   };
   const auto q = arm_->actual();
   const auto axes = arm_->axes();
   for (unsigned a = 0; a < axes.size(); ++a) {
     const std::string axis = fmt::format("axis{}", a + 1);
-    tag(axis + ".position", q[a]);
-    tag(axis + ".setpoint", arm_->setpoint()[a]);
+    // SI, as the joints are computed: metres for z, radians for the others (UNECE codes).
+    const std::string unit = a == line::kZAxis ? "MTR" : "C81";
+    tag(axis + ".position", q[a], unit);
+    tag(axis + ".setpoint", arm_->setpoint()[a], unit);
     tag(axis + ".state", std::string(ethercat::master::cia402::to_string(axes[a].state())));
     tag(axis + ".statusword", static_cast<std::int64_t>(axes[a].statusword()));
   }
   const auto tool = motion::scara_forward(spec_->scara, q).position;
-  tag("tool.x", tool.x);
-  tag("tool.y", tool.y);
-  tag("tool.z", tool.z);
+  tag("tool.x", tool.x, "MTR");
+  tag("tool.y", tool.y, "MTR");
+  tag("tool.z", tool.z, "MTR");
   const std::uint32_t di = arm_->inputs();
   tag("io.gripper", arm_->gripper_on());
   tag("io.part_present", (di & line::kDiPartPresent) != 0);

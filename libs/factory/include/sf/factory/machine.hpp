@@ -83,6 +83,9 @@ struct Tag {
   std::variant<bool, std::int64_t, double, std::string> value;
   Quality quality = Quality::good;
   std::string reason;  // why not good
+  // Its EngineeringUnits (OPC 10000-8 §5.6.3) as a UNECE common code ("C81" radian, "MTR" metre,
+  // "CEL" degree Celsius); empty: none (a count, a state).
+  std::string unit{};
 };
 
 struct ControllerStatus {

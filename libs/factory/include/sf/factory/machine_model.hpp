@@ -32,6 +32,9 @@
 // loaded, so only names and layout follow them. Numbers follow PackTags where OPC 30050 uses
 // structures (counts are Int32, StopReason an object instead of a PackMLAlarmDataType).
 //
+// A tag with a unit (Tag::unit) gets the EngineeringUnits property (OPC 10000-8 §5.6.3,
+// "ScaraRobot1.Tags.axis1.position.EngineeringUnits"): values are SI (radians, metres) or °C.
+//
 // Tag quality (Tag::quality) becomes the variable's StatusCode: uncertain →
 // UncertainLastUsableValue, bad → BadNoCommunication, both with the value kept; Tag::reason is
 // the tag's Reason property (empty when good).
@@ -77,6 +80,7 @@ struct ModelValue {
   Kind kind = Kind::fixed;
   std::string name;
   opcua::DataValue value;
+  std::string unit{};  // tag: Tag::unit, given to the variable when it is made
 };
 
 // OPC 10000-4 §7.39 codes of Tag::quality (Good, UncertainLastUsableValue, BadNoCommunication).
@@ -116,7 +120,7 @@ class MachineModel {
  private:
   MachineModel(std::uint16_t ns, std::string name, opcua::NodeId machine)
       : ns_(ns), name_(std::move(name)), machine_(std::move(machine)) {}
-  Status add_tag(opcua::server::AddressSpace& space, const std::string& tag, const opcua::DataValue& value);
+  Status add_tag(opcua::server::AddressSpace& space, const ModelValue& value);
   void remove_tag(opcua::server::AddressSpace& space, const std::string& tag);
 
   std::uint16_t ns_ = 0;

@@ -38,6 +38,8 @@ constexpr std::uint16_t box_id_of(std::uint32_t inputs) {
   return static_cast<std::uint16_t>(inputs >> kDiBoxId);
 }
 inline constexpr unsigned kArmAxes = 4;
+// The arm's linear axis (z, metres); the others turn (radians).
+inline constexpr unsigned kZAxis = 2;
 
 // Joint values of the arm ↔ axis positions in counts.
 motion::ScaraJoints joints_from_counts(const std::array<double, kArmAxes>& counts);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "sf/opcua/encoding.hpp"
@@ -30,6 +31,30 @@ inline EUInformation unece_unit(std::string_view common_code, std::string_view s
   eu.display_name = LocalizedText("en", String(symbol));
   eu.description = LocalizedText("en", String(name));
   return eu;
+}
+
+// The units the shop floor's controllers publish, by common code (UNECE Rec 20 Annex I):
+// nullopt for a code not in this list.
+inline std::optional<EUInformation> unece_unit(std::string_view common_code) {
+  struct Known {
+    std::string_view code, symbol, name;
+  };
+  static constexpr Known kKnown[] = {
+      {"C81", "rad", "radian"},
+      {"DD", "°", "degree [unit of angle]"},
+      {"MTR", "m", "metre"},
+      {"MMT", "mm", "millimetre"},
+      {"CEL", "°C", "degree Celsius"},
+      {"KEL", "K", "kelvin"},
+      {"MTS", "m/s", "metre per second"},
+      {"GRM", "g", "gram"},
+  };
+  for (const Known& k : kKnown) {
+    if (k.code == common_code) {
+      return unece_unit(k.code, k.symbol, k.name);
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace sf::opcua

@@ -12,6 +12,9 @@
 //   plc-unreachable:MACHINE    its Modbus server stops answering
 //   plc-exception:MACHINE[:CODE]  every Modbus request answered with
 //                              exception CODE (default 4, server device failure)
+//   overheat:ROBOT             a legacy robot's drive cooling fails: its windings
+//                              heat towards 85 °C (115 °C while moving), which
+//                              its controller reports in its temperature register
 //   box-drop:BOX               the box falls off the line (cannot be cleared)
 #pragma once
 
@@ -33,6 +36,7 @@ enum class FaultKind {
   cable_cut,
   plc_unreachable,
   plc_exception,
+  overheat,
   box_drop
 };
 std::string_view to_string(FaultKind kind);

@@ -51,11 +51,18 @@ struct BeltState {
   double odometer_m = 0.0;     // belt travel since start
 };
 
+// The air around the line, °C: where the robots' drives cool down to.
+inline constexpr double kAmbientTemperatureC = 25.0;
+
 struct Tool {
   motion::ToolPose pose;
   bool gripper = false;        // closed (vacuum on)
   int held = -1;               // catalog candy type, −1 = none
   std::vector<double> joints;  // for observation
+  // The arm's drives: the hottest winding, °C, and whether their cooling has failed (the fault
+  // overheat:ROBOT).
+  double drive_temperature_c = kAmbientTemperatureC;
+  bool cooling_failed = false;
 };
 
 struct Inspection {
@@ -132,6 +139,9 @@ class World {
   // Closing over a dispenser picks a candy; opening over a box slot places
   // it; opening anywhere else drops it.
   void set_gripper(std::size_t robot, bool closed);
+  // The drives over `dt` seconds, moving the arm or not (a first-order thermal model).
+  void heat_drives(std::size_t robot, double dt, bool moving);
+  void set_cooling_failed(std::size_t robot, bool failed);
 
   // --- observation ---
   [[nodiscard]] const EventLog& events() const { return events_; }

@@ -26,7 +26,7 @@ class PackMLMachine final : public MachineController {
   explicit PackMLMachine(const Clock& clock, Identification id = default_identification(),
                          std::chrono::nanoseconds job_time = std::chrono::seconds(1))
       : id_(std::move(id)), unit_(clock), job_time_(job_time) {
-    set_tag("sensor.temperature", 21.5);
+    set_tag("sensor.temperature", 21.5, Tag::Quality::good, {}, "CEL");
     set_tag("sensor.part_present", false);
     set_tag("plc.jobs_done", std::int64_t{0});
   }
@@ -93,15 +93,16 @@ class PackMLMachine final : public MachineController {
   }
 
   // Test controls (on the controller's thread).
+  // A tag's value; `unit` (a UNECE code, Tag::unit) stays once given.
   void set_tag(const std::string& name, decltype(Tag::value) value, Tag::Quality quality = Tag::Quality::good,
-               std::string reason = {}) {
+               std::string reason = {}, std::string unit = {}) {
     for (Tag& t : tags_) {
       if (t.name == name) {
-        t = Tag{name, std::move(value), quality, std::move(reason)};
+        t = Tag{name, std::move(value), quality, std::move(reason), unit.empty() ? t.unit : std::move(unit)};
         return;
       }
     }
-    tags_.push_back(Tag{name, std::move(value), quality, std::move(reason)});
+    tags_.push_back(Tag{name, std::move(value), quality, std::move(reason), std::move(unit)});
   }
   void remove_tag(const std::string& name) {
     std::erase_if(tags_, [&](const Tag& t) { return t.name == name; });

@@ -230,6 +230,7 @@ TEST_F(KnowledgeLoopTest, AnAxisOutsideItsTravelRaisesOneAlarmThatClearsWhenItRe
   // The smart robot publishes SI units: radians for θ1 (travel -149.0..149.0°), metres for z
   // (0.0..300.0 mm).
   tag("ScaraRobot1", "axis1.position", 1.0, "rad");
+  tag("ScaraRobot1", "axis2.position", -2.5, "rad");  // at its joint limit: inside its travel
   tag("ScaraRobot1", "axis3.position", 0.25, "m");
   EXPECT_TRUE(alarms.empty()) << alarms.front().message;
   tag("ScaraRobot1", "axis1.position", 2.7, "rad");  // 154.699°

@@ -120,9 +120,11 @@ void smart_robot(std::string& out, const RobotSpec& r) {
     if (a <= kArmAxes) {
       const auto& limit = r.scara.limits[a - 1];
       const double scale = a - 1 == kZAxis ? 1000.0 : 180.0 / std::numbers::pi;
+      // To a tenth, rounded outwards: every position the arm may take is inside (the rule
+      // axisTravel compares live positions to these), a rounding error past it too.
       travel = fmt::format(" ; sf:minPosition {} ; sf:maxPosition {}",
-                           number(std::round(limit.min * scale * 10) / 10),
-                           number(std::round(limit.max * scale * 10) / 10));
+                           number(std::floor(limit.min * scale * 10 + 1e-6) / 10),
+                           number(std::ceil(limit.max * scale * 10 - 1e-6) / 10));
     }
     out += fmt::format("{}Axis{} a sf:ServoAxis ; sf:axisIndex \"{}\"^^xsd:int{} .\n", m, a, a, travel);
   }

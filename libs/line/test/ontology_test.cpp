@@ -35,6 +35,19 @@ TEST(OntologyTest, TheLineDescribesWhatTheLayoutSays) {
   }
 }
 
+// The travel is rounded outwards: θ2's ±2.5 rad (±143.239°) is written ±143.3, so the arm at its
+// limit violates nothing; z's 0..0.3 m stays 0.0..300.0 mm.
+TEST(OntologyTest, AnAxisTravelHoldsEveryPositionTheArmMayTake) {
+  auto layout = default_layout();
+  ASSERT_TRUE(layout);
+  const std::string ttl = line_turtle(*layout, "layouts/prototype-line.yaml");
+  EXPECT_NE(ttl.find("p:ScaraRobot1Axis2 a sf:ServoAxis ; sf:axisIndex \"2\"^^xsd:int ; sf:minPosition "
+                     "\"-143.3\"^^xsd:double ; sf:maxPosition \"143.3\"^^xsd:double ."),
+            std::string::npos);
+  EXPECT_NE(ttl.find("sf:minPosition \"0.0\"^^xsd:double ; sf:maxPosition \"300.0\"^^xsd:double ."),
+            std::string::npos);
+}
+
 // The committed ontology/prototype-line.ttl is the generator's output for the default layout.
 TEST(OntologyTest, TheCommittedPrototypeLineIsGeneratedFromTheDefaultLayout) {
   const char* root = std::getenv("SF_SOURCE_DIR");

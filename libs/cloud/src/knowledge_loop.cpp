@@ -8,10 +8,10 @@
 #include <optional>
 #include <set>
 
-#include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "inspection_facts.hpp"
 #include "live_facts.hpp"
 #include "sf/knowledge/rdf_io.hpp"
 #include "sf/knowledge/reasoner.hpp"
@@ -28,25 +28,6 @@ namespace vocab = sf::knowledge::vocab;
 namespace {
 
 constexpr std::string_view kInspection = "/OrderService/LastInspection";
-
-// An order id as part of an IRI: letters, digits, '-', '.' and '_' stay, anything else is
-// percent-encoded (RFC 3987 iunreserved), so every id gives its own valid IRI.
-std::string iri_part(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (std::isalnum(u) != 0 || c == '-' || c == '.' || c == '_') {
-      out += c;
-    } else {
-      out += fmt::format("%{:02X}", u);
-    }
-  }
-  return out;
-}
-
-std::string xsd_date_time(historian::Timestamp t) {
-  return fmt::format("{:%Y-%m-%dT%H:%M:%S}Z", std::chrono::floor<std::chrono::milliseconds>(t));
-}
 
 // "1.5", "80.0": a value in the ontology's unit to a thousandth (the travel limits are written
 // to a tenth), as an xsd:double's lexical form the rules' messages show.
@@ -88,16 +69,9 @@ struct KnowledgeLoop::Impl {
   std::map<std::string, historian::Timestamp> newest;
   KnowledgeLoopStatus st;
 
-  kb::TermId sf(std::string_view local) { return dict.iri(fmt::format("{}{}", vocab::kSf, local)); }
-  kb::TermId p(std::string_view local) { return dict.iri(fmt::format("{}{}", line::kLineNamespace, local)); }
-  kb::TermId integer(int n) { return dict.literal(std::to_string(n), vocab::kXsdInteger); }
-  kb::TermId type() { return dict.iri(vocab::kRdfType); }
+  kb::TermId sf(std::string_view local) { return detail::ontology_term(dict, local); }
+  kb::TermId p(std::string_view local) { return detail::line_term(dict, local); }
 
-  void order_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add);
-  void line_facts(const std::string& order, const std::string& candy, int quantity,
-                  std::vector<kb::Triple>& add);
-  void box_facts(const line::InspectionRecord& r, historian::Timestamp at, std::vector<kb::Triple>& add,
-                 std::vector<kb::Triple>& lines);
   Status inspection(const LiveUpdate& u);
   bool newer(const LiveUpdate& u);
   void set_current(kb::TermId subject, kb::TermId property, std::optional<kb::TermId> value,
@@ -114,64 +88,6 @@ struct KnowledgeLoop::Impl {
   void raise_and_clear(historian::Timestamp at);
   void find_live_properties();
 };
-
-void KnowledgeLoop::Impl::order_facts(const line::InspectionRecord& r, historian::Timestamp at,
-                                      std::vector<kb::Triple>& add) {
-  const kb::TermId o = p("Order_" + iri_part(r.order));
-  add.push_back({o, type(), sf("Order")});
-  add.push_back({o, sf("orderCode"), dict.literal(r.order)});
-  add.push_back({o, sf("boxType"), sf(line::iri_name(r.box_type))});
-  for (const auto& [candy, n] : r.ordered) {
-    line_facts(r.order, candy, n, add);
-  }
-  if (due_after.count() > 0) {
-    // Accepted lead_s before this inspection, due due_after after that.
-    const auto accepted =
-        at - std::chrono::duration_cast<historian::Micros>(std::chrono::duration<double>(r.lead_s));
-    add.push_back({o, sf("dueAt"), dict.literal(xsd_date_time(accepted + due_after), vocab::kXsdDateTime)});
-  }
-}
-
-void KnowledgeLoop::Impl::line_facts(const std::string& order, const std::string& candy, int quantity,
-                                     std::vector<kb::Triple>& add) {
-  const kb::TermId l = p(fmt::format("Order_{}_{}", iri_part(order), line::iri_name(candy)));
-  add.push_back({l, type(), sf("OrderLine")});
-  add.push_back({l, sf("forOrder"), p("Order_" + iri_part(order))});
-  add.push_back({l, sf("candyType"), sf(line::iri_name(candy))});
-  add.push_back({l, sf("quantity"), integer(quantity)});
-}
-
-void KnowledgeLoop::Impl::box_facts(const line::InspectionRecord& r, historian::Timestamp at,
-                                    std::vector<kb::Triple>& add, std::vector<kb::Triple>& lines) {
-  const std::string name = fmt::format("Box_{}_{}", iri_part(r.order), r.box);
-  const kb::TermId box = p(name);
-  add.push_back({box, type(), sf("CandyBox")});
-  add.push_back({box, sf("forOrder"), p("Order_" + iri_part(r.order))});
-  add.push_back({box, sf("completedAt"), dict.literal(xsd_date_time(at), vocab::kXsdDateTime)});
-  int total = 0;
-  // Every candy type ordered or found: a type the box lacks altogether is a count of 0.
-  std::map<std::string, int> content = r.counted;
-  for (const auto& [candy, n] : r.ordered) {
-    content.emplace(candy, 0);
-  }
-  // A type the order does not name is one it asks none of: its line says 0, so contentMismatch
-  // reports it ("chocolate: ordered 0, the box holds 2") without a rule of negation, whose
-  // result would hang on the order in which a forward engine meets the facts.
-  for (const auto& [candy, n] : r.counted) {
-    if (!r.ordered.contains(candy)) {
-      line_facts(r.order, candy, 0, lines);
-    }
-  }
-  for (const auto& [candy, n] : content) {
-    const kb::TermId c = p(fmt::format("{}_{}", name, line::iri_name(candy)));
-    add.push_back({box, sf("hasContent"), c});
-    add.push_back({c, type(), sf("BoxContent")});
-    add.push_back({c, sf("candyType"), sf(line::iri_name(candy))});
-    add.push_back({c, sf("count"), integer(n)});
-    total += n;
-  }
-  add.push_back({box, sf("candyCount"), integer(total)});
-}
 
 // A box inspected again (taken off the line, refilled, inspected once more) replaces its own
 // triples; the order's lines stay, other boxes of the order may need them.
@@ -191,11 +107,12 @@ Status KnowledgeLoop::Impl::inspection(const LiveUpdate& u) {
     return {};  // delivered again (read back from history), or older than the box's last inspection
   }
   kb::Changes changes;
+  detail::InspectionFacts facts(dict, due_after);
   if (orders.insert(r->order).second) {
-    order_facts(*r, at, changes.add);
+    facts.order(*r, at, changes.add);
   }
   std::vector<kb::Triple> own;
-  box_facts(*r, at, own, changes.add);
+  facts.box(*r, at, own, changes.add);
   if (before != boxes.end()) {
     for (const kb::Triple& t : before->second.triples) {
       if (std::find(own.begin(), own.end(), t) == own.end()) {

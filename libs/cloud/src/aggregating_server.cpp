@@ -197,4 +197,14 @@ void AggregatingServer::report(const Alarm& alarm) {
   server_->raise_event(ua::NodeId(0, ua::id::Server), condition_event(alarm, ns_));
 }
 
+void AggregatingServer::refresh_from(std::function<std::vector<Alarm>()> retained) {
+  server_->set_condition_refresh([this, retained = std::move(retained)] {
+    std::vector<ua::SubscriptionService::Event> events;
+    for (const Alarm& alarm : retained()) {
+      events.push_back(condition_event(alarm, ns_));
+    }
+    return events;
+  });
+}
+
 }  // namespace sf::cloud::detail

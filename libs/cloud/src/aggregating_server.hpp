@@ -52,6 +52,9 @@ class AggregatingServer {
   // Any thread. A raise, clear or acknowledgement as an AlarmConditionType event of the Server
   // object (OPC 10000-9 §5.8), to every client subscribed to its events.
   void report(const Alarm& alarm);
+  // Any thread. What a client's ConditionRefresh (OPC 10000-9 §5.5.7) reports: the alarms
+  // `retained` returns (called on the server's loop thread).
+  void refresh_from(std::function<std::vector<Alarm>()> retained);
 
  private:
   opcua::NodeId folder_for(opcua::server::AddressSpace& space, const std::string& path);

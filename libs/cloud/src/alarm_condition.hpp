@@ -1,7 +1,8 @@
 // An alarm of the knowledge loop as the event of an OPC UA Alarms & Conditions condition (OPC
 // 10000-9 §5.8 AlarmConditionType), reported by the aggregating server's Server object. Each
 // raise, clear and acknowledgement is one event; the condition itself is not a node of the
-// address space (its ConditionId names it), so clients see it through events only.
+// address space (its ConditionId names it), so clients see it through events only, and through
+// ConditionRefresh (§5.5.7) the retained ones again.
 #pragma once
 
 #include <cstdint>

@@ -136,6 +136,9 @@ Status Gateway::Impl::start_aggregating() {
   });
   on_series = [server = aggregating.get()](const historian::Series& s) { server->add_series(s); };
   alarm_events = aggregating.get();
+  if (knowledge) {
+    aggregating->refresh_from([k = knowledge.get()] { return k->retained_alarms(); });
+  }
   // Series known from earlier runs have history already: show them from the start.
   if (auto known = store->list_series()) {
     for (const historian::Series& s : *known) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <mutex>
+#include <set>
 
 #include "counter_server.hpp"
 #include "sf/cloud/gateway.hpp"
@@ -197,6 +198,23 @@ class EventClient {
   }
   ~EventClient() { process_.close_and_wait(std::chrono::seconds(10)); }
 
+  // Asks for a ConditionRefresh; its answer is a line {"refresh": <StatusCode>}.
+  Status refresh() { return process_.write_stdin("REFRESH\n"); }
+  // The next line, whatever it reports.
+  std::optional<nlohmann::json> next_line() {
+    if (!pending_.empty()) {
+      auto e = pending_.front();
+      pending_.erase(pending_.begin());
+      return e;
+    }
+    auto line = process_.read_line(std::chrono::seconds(30));
+    if (!line) {
+      return std::nullopt;
+    }
+    auto e = nlohmann::json::parse(*line, nullptr, false);
+    return e.is_discarded() ? std::nullopt : std::optional<nlohmann::json>(e);
+  }
+
   // The next event of the condition `rule`; events of other conditions are kept for later.
   std::optional<nlohmann::json> next(std::string_view rule) {
     for (auto it = pending_.begin(); it != pending_.end(); ++it) {
@@ -309,6 +327,30 @@ TEST(GatewayKnowledge, NodeOpcuaReceivesTheAlarmsAsConditionEventsOfTheAggregati
   EXPECT_EQ((*acked)["activeStateId"], false) << acked->dump();
   EXPECT_EQ((*acked)["retain"], false) << acked->dump();
   EXPECT_EQ((*acked)["conditionId"], (*hot)["conditionId"]);
+
+  // ConditionRefresh (OPC 10000-9 §5.5.7): the two alarms still retained (cleared, not
+  // acknowledged) between the refresh's start and end.
+  ASSERT_TRUE(client.refresh());
+  std::vector<nlohmann::json> refreshed;
+  for (int i = 0; i < 5; ++i) {
+    auto line = client.next_line();
+    ASSERT_TRUE(line.has_value()) << "line " << i;
+    refreshed.push_back(*line);
+  }
+  std::erase_if(refreshed, [](const nlohmann::json& j) {
+    EXPECT_FALSE(j.contains("refresh") && j["refresh"] != "Good") << j.dump();
+    return j.contains("refresh");
+  });
+  ASSERT_EQ(refreshed.size(), 4U);
+  EXPECT_EQ(refreshed[0]["eventType"], "ns=0;i=2787") << refreshed[0].dump();  // RefreshStartEventType
+  EXPECT_EQ(refreshed[3]["eventType"], "ns=0;i=2788") << refreshed[3].dump();  // RefreshEndEventType
+  std::set<std::string> conditions;
+  for (std::size_t i = 1; i <= 2; ++i) {
+    conditions.insert(refreshed[i]["conditionName"].get<std::string>());
+    EXPECT_EQ(refreshed[i]["retain"], true) << refreshed[i].dump();
+    EXPECT_EQ(refreshed[i]["activeStateId"], false) << refreshed[i].dump();
+  }
+  EXPECT_EQ(conditions, (std::set<std::string>{"axisTravel", "contentMismatch"}));
   (*gateway)->stop();
   // The historian holds the same seven events.
   EXPECT_EQ(knowledge_events((*gateway)->store()).size(), 7U);

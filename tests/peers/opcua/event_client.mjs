@@ -6,11 +6,13 @@
 //       Prints "SUBSCRIBED" once its event monitored item exists, then one JSON line per event
 //       it receives: {"eventType", "sourceName", "message", "severity", "conditionId",
 //       "conditionName", "activeState", "activeStateId", "ackedStateId", "retain"}.
-//       Ends when stdin closes.
+//       A line "REFRESH" on stdin calls ConditionRefresh (OPC 10000-9 §5.5.7) for its
+//       subscription and prints {"refresh": <StatusCode name>}. Ends when stdin closes.
 import "./quiet_console.mjs";
 import process from "node:process";
+import readline from "node:readline";
 
-import { AttributeIds, OPCUAClient, TimestampsToReturn, constructEventFilter } from "node-opcua";
+import { AttributeIds, DataType, OPCUAClient, TimestampsToReturn, constructEventFilter } from "node-opcua";
 
 // Select clauses on BaseEventType (node-opcua's default): the server evaluates each browse path
 // without considering the type; "ConditionId" is the NodeId attribute of a ConditionType.
@@ -73,9 +75,19 @@ async function main() {
     await client.disconnect();
     process.exit(0);
   };
-  process.stdin.on("end", stop);
-  process.stdin.on("close", stop);
-  process.stdin.resume();
+  const lines = readline.createInterface({ input: process.stdin });
+  lines.on("line", async (line) => {
+    if (line.trim() !== "REFRESH") {
+      return;
+    }
+    const result = await session.call({
+      objectId: "i=2782", // ConditionType
+      methodId: "i=3875", // ConditionRefresh
+      inputArguments: [{ dataType: DataType.UInt32, value: subscription.subscriptionId }],
+    });
+    process.stdout.write(`${JSON.stringify({ refresh: result.statusCode.name })}\n`);
+  });
+  lines.on("close", stop);
 }
 
 main().catch((err) => {

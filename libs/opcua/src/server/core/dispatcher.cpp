@@ -186,13 +186,34 @@ ServiceContext Dispatcher::context_for(Session& session) {
 // The services that run in an activated session: the session's scope in, the response out.
 namespace detail {
 
+// OPC 10000-9 §5.5.2, §5.5.7 (NodeIds.csv).
+constexpr std::uint32_t kConditionType = 2782;
+constexpr std::uint32_t kConditionRefresh = 3875;
+
 struct SessionScope {
   AddressSpace& space;
   SubscriptionService& subscriptions;
   HistoryDatabase* history = nullptr;
+  const Dispatcher::ConditionSource& conditions;
   const Session& session;
   ServiceContext context;
 };
+
+// ConditionRefresh (OPC 10000-9 §5.5.7): the method on ConditionType, its one argument checked by
+// the Call service already.
+bool is_condition_refresh(const CallMethodRequest& m) {
+  return m.object_id == NodeId(0, kConditionType) && m.method_id == NodeId(0, kConditionRefresh);
+}
+StatusCode condition_refresh(SessionScope& s, const CallMethodRequest& m) {
+  if (!s.conditions) {
+    return status::BadNotImplemented;
+  }
+  const auto* id = m.input_arguments.empty() ? nullptr : m.input_arguments[0].get_if<std::uint32_t>();
+  if (id == nullptr) {
+    return status::BadInvalidArgument;
+  }
+  return s.subscriptions.refresh_conditions(s.session.authentication_token, *id, s.conditions());
+}
 
 ReadResponse serve(SessionScope& s, const ReadRequest& r) {
   return read(s.space, r, s.context);
@@ -219,7 +240,15 @@ UnregisterNodesResponse serve(SessionScope& s, const UnregisterNodesRequest& r) 
   return unregister_nodes(s.space, r, s.context);
 }
 CallResponse serve(SessionScope& s, const CallRequest& r) {
-  return call(s.space, r, s.context);
+  CallResponse response = call(s.space, r, s.context);
+  for (std::size_t i = 0; i < response.results.size() && i < r.methods_to_call.size(); ++i) {
+    // The node has no callback: its arguments passed when the Call service got that far.
+    if (is_condition_refresh(r.methods_to_call[i]) &&
+        response.results[i].status_code == status::BadNotImplemented) {
+      response.results[i].status_code = condition_refresh(s, r.methods_to_call[i]);
+    }
+  }
+  return response;
 }
 CreateSubscriptionResponse serve(SessionScope& s, const CreateSubscriptionRequest& r) {
   return s.subscriptions.create_subscription(s.session.authentication_token, r);
@@ -263,7 +292,8 @@ void Dispatcher::with_session(Call& call, const Request& request) {
     fault(call, request.request_header, status_of(session.error()));
     return;
   }
-  detail::SessionScope scope{space_, subscriptions_, history_.get(), **session, context_for(**session)};
+  detail::SessionScope scope{space_,      subscriptions_, history_.get(),
+                             conditions_, **session,      context_for(**session)};
   auto response = detail::serve(scope, request);
   fill_response_header(response.response_header, request.request_header, clock_);
   call.respond(std::move(response));

@@ -125,6 +125,7 @@ Status Server::start() {
                                                config_.subscriptions, config_.operations);
     dispatcher_->set_on_schedule_changed([this] { schedule_tick(); });
     dispatcher_->set_history_database(history_);
+    dispatcher_->set_condition_refresh(conditions_);
     dispatcher_->set_security(security);
     auto transport = ServerTransport::start(thread_->loop(), transport_config, *dispatcher_, clock_);
     if (!transport) {
@@ -187,6 +188,18 @@ void Server::set_history_database(std::shared_ptr<HistoryDatabase> database) {
     history_ = std::move(database);
     if (dispatcher_) {
       dispatcher_->set_history_database(history_);
+    }
+  });
+}
+
+void Server::set_condition_refresh(Dispatcher::ConditionSource conditions) {
+  if (!thread_) {
+    return;
+  }
+  thread_->run_sync([&] {
+    conditions_ = std::move(conditions);
+    if (dispatcher_) {
+      dispatcher_->set_condition_refresh(conditions_);
     }
   });
 }

@@ -105,6 +105,34 @@ TEST_F(SubsEvents, SelectClausesPickFieldsByBrowsePath) {
                             Variant(std::uint16_t{500}), Variant(LocalizedText("en", "hot")), Variant{}}));
 }
 
+// OPC 10000-9 §5.5.7: RefreshStart, the retained conditions the where clause passes, RefreshEnd,
+// on every event item of the session's subscription; the markers ignore the where clause.
+TEST_F(SubsEvents, ConditionRefreshSendsTheRetainedConditionsBetweenItsMarkers) {
+  EXPECT_EQ(svc->refresh_conditions(session(), sub, {}), status::BadNothingToDo);
+  event_item(1, event_filter({field("EventType"), field("SourceName")}));
+  event_item(2, event_filter({field("EventType"), field("EventId")},
+                             {element(FilterOperator::OfType, {lit(kMyEventType)})}));
+  const std::vector<SubscriptionService::Event> retained = {
+      event(kMyEventType, {{"SourceName", Variant("boiler")}}),
+      event(kBaseEventType, {{"SourceName", Variant("tank")}})};
+  EXPECT_EQ(svc->refresh_conditions(other_session(), sub, retained), status::BadSubscriptionIdInvalid);
+  EXPECT_EQ(svc->refresh_conditions(session(), sub + 100, retained), status::BadSubscriptionIdInvalid);
+  ASSERT_EQ(svc->refresh_conditions(session(), sub, retained), status::Good);
+  const auto got = collect();
+  const Variant start(NodeId(0, 2787));
+  const Variant end(NodeId(0, 2788));
+  ASSERT_EQ(got.at(1).size(), 4U);
+  EXPECT_EQ(got.at(1)[0], (Array<Variant>{start, Variant("Internal/ConditionRefresh")}));
+  EXPECT_EQ(got.at(1)[1], (Array<Variant>{Variant(kMyEventType), Variant("boiler")}));
+  EXPECT_EQ(got.at(1)[2], (Array<Variant>{Variant(kBaseEventType), Variant("tank")}));
+  EXPECT_EQ(got.at(1)[3], (Array<Variant>{end, Variant("Internal/ConditionRefresh")}));
+  // The where clause (OfType MyEventType) lets the boiler through, and the markers regardless.
+  ASSERT_EQ(got.at(2).size(), 3U);
+  EXPECT_EQ(got.at(2)[0][0], start);
+  EXPECT_EQ(got.at(2)[1][0], Variant(kMyEventType));
+  EXPECT_EQ(got.at(2)[2][0], end);
+}
+
 TEST_F(SubsEvents, TypedSelectClauseOnlyAppliesToThatType) {
   event_item(1, event_filter({field("SourceName"), field("Pressure", kMyEventType)}));
   svc->post_event(NodeId(0, id::Server),

@@ -60,6 +60,10 @@ class Dispatcher final : public ServiceHandler {
   void set_security(std::shared_ptr<const ServerSecurity> security);
   // Where HistoryRead finds values (nullptr: HistoryRead answers BadHistoryOperationUnsupported).
   void set_history_database(std::shared_ptr<HistoryDatabase> database) { history_ = std::move(database); }
+  // The retained conditions a ConditionRefresh (OPC 10000-9 §5.5.7) reports, as events; never
+  // set: the method answers BadNotImplemented. Called on the loop thread.
+  using ConditionSource = std::function<std::vector<SubscriptionService::Event>()>;
+  void set_condition_refresh(ConditionSource conditions) { conditions_ = std::move(conditions); }
 
   // An event raised by `source` (OPC 10000-5 §6.4.2 BaseEventType fields), reported to event
   // items on `notifier` and on the Server object.
@@ -99,6 +103,7 @@ class Dispatcher final : public ServiceHandler {
   SubscriptionService subscriptions_;
   std::function<void()> on_schedule_changed_;
   std::shared_ptr<HistoryDatabase> history_;
+  ConditionSource conditions_;
   std::shared_ptr<const ServerSecurity> security_;
 };
 

@@ -60,6 +60,9 @@ class Server {
   // Where HistoryRead finds the history of Variables with AccessLevel HistoryRead (see
   // history.hpp); any thread.
   void set_history_database(std::shared_ptr<HistoryDatabase> database);
+  // The retained conditions ConditionRefresh reports (Dispatcher::set_condition_refresh); any
+  // thread, the source is called on the loop thread.
+  void set_condition_refresh(Dispatcher::ConditionSource conditions);
 
   // Reports an event to subscribers of `notifier` and of the Server object. Any thread.
   void raise_event(const NodeId& notifier, SubscriptionService::Event event);
@@ -83,6 +86,7 @@ class Server {
   std::unique_ptr<net::LoopThread> thread_;
   std::unique_ptr<Dispatcher> dispatcher_;
   std::shared_ptr<HistoryDatabase> history_;
+  Dispatcher::ConditionSource conditions_;
   std::unique_ptr<ServerTransport> transport_;
   net::EventLoop::TimerId tick_timer_ = 0;
   Clock::time_point tick_at_ = Clock::time_point::max();

@@ -143,6 +143,14 @@ class SubscriptionService {
   };
   void post_event(const NodeId& notifier, const Event& event);
 
+  // ConditionRefresh (OPC 10000-9 §5.5.7): every event item of the session's subscription `id`
+  // gets a RefreshStartEvent, then those of `conditions` its where clause passes, then a
+  // RefreshEndEvent (the markers ignore the where clause, §4.5; each has one EventId for all
+  // items). BadSubscriptionIdInvalid: not a subscription of the session; BadNothingToDo: it has
+  // no event items.
+  StatusCode refresh_conditions(const SessionKey& session, std::uint32_t id,
+                                const std::vector<Event>& conditions);
+
   // Session lifecycle: queued Publish requests get BadSessionClosed. With
   // delete_subscriptions=false the subscriptions stay, without a session, until their lifetime
   // expires (TransferSubscriptions could take them; not implemented).

@@ -29,6 +29,25 @@ LiveBus::Subscription LiveBus::subscribe(Callback on_value, EventCallback on_eve
   return {this, id};
 }
 
+LiveBus::Subscription LiveBus::subscribe_with_current(Callback on_value, EventCallback on_event) {
+  std::vector<Retained> current;
+  Subscription subscription;
+  {
+    std::lock_guard lock(mutex_);
+    current.reserve(retained_.size());
+    for (const auto& [key, r] : retained_) {
+      current.push_back(r);
+    }
+    const std::size_t id = next_++;
+    entries_[id] = std::make_shared<Entry>(Entry{on_value, std::move(on_event)});
+    subscription = Subscription(this, id);
+  }
+  for (const auto& r : current) {
+    on_value(LiveUpdate{&r.series, r.sample, true});
+  }
+  return subscription;
+}
+
 void LiveBus::unsubscribe(std::size_t id) {
   std::lock_guard lock(mutex_);
   entries_.erase(id);
@@ -51,6 +70,13 @@ std::vector<std::shared_ptr<LiveBus::Entry>> LiveBus::snapshot() const {
 }
 
 void LiveBus::publish(const LiveUpdate& update) {
+  if (update.series != nullptr) {
+    std::lock_guard lock(mutex_);
+    auto [it, added] = retained_.try_emplace({update.series->server, update.series->node_id});
+    if (added || update.sample.source_time >= it->second.sample.source_time) {
+      it->second = {*update.series, update.sample};
+    }
+  }
   for (const auto& entry : snapshot()) {
     if (entry->on_value) {
       entry->on_value(update);

@@ -387,6 +387,39 @@ TEST(GatewayCall, AMethodIsCalledOnTheNamedServer) {
   (*gateway)->stop();
 }
 
+// A subscriber that comes late gets the newest value of every series first (retained values);
+// one that does not ask for them gets only what comes after.
+TEST(LiveBusTest, ALateSubscriberStartsWithTheNewestValueOfEverySeries) {
+  LiveBus bus;
+  const historian::SeriesInfo a{"s", "ns=1;s=A", "/Objects/A", historian::DataType::int64};
+  const historian::SeriesInfo b{"s", "ns=1;s=B", "/Objects/B", historian::DataType::int64};
+  auto update = [](const historian::SeriesInfo& series, std::int64_t seconds, std::int64_t value) {
+    LiveUpdate u;
+    u.series = &series;
+    u.sample.source_time = historian::Timestamp{std::chrono::seconds(seconds)};
+    u.sample.value = value;
+    return u;
+  };
+  bus.publish(update(a, 1, 10));
+  bus.publish(update(a, 3, 30));
+  bus.publish(update(a, 2, 20));  // older than the newest: not the current value
+  bus.publish(update(b, 1, 7));
+  std::vector<std::pair<std::string, std::int64_t>> seen;
+  std::size_t replayed = 0;
+  auto late = bus.subscribe_with_current([&](const LiveUpdate& u) {
+    replayed += u.replayed ? 1 : 0;
+    seen.emplace_back(u.series->browse_path, std::get<std::int64_t>(u.sample.value));
+  });
+  EXPECT_EQ(replayed, 2U);
+  EXPECT_EQ(seen, (std::vector<std::pair<std::string, std::int64_t>>{{"/Objects/A", 30}, {"/Objects/B", 7}}));
+  std::size_t plain = 0;
+  auto other = bus.subscribe([&](const LiveUpdate&) { ++plain; });
+  EXPECT_EQ(plain, 0U);
+  bus.publish(update(b, 2, 8));
+  EXPECT_EQ(plain, 1U);
+  EXPECT_EQ(seen.size(), 3U);
+}
+
 TEST(GatewayErrors, AnUnusableHistorianIsRefusedAtCreate) {
   GatewayConfig config;
   config.historian.url = "sqlite:/nonexistent/dir/h.db";

@@ -53,21 +53,22 @@ std::optional<nlohmann::json> alarm_of(const historian::Event& e) {
   if (fields.is_discarded() || !fields.is_object()) {
     return std::nullopt;
   }
-  // EventId "raised|cleared <time> <alarm id>" (cloud::alarm_event).
-  const std::string event_id(e.event_id.begin(), e.event_id.end());
-  const auto first = event_id.find(' ');
-  const auto second = first == std::string::npos ? first : event_id.find(' ', first + 1);
-  const bool active = fields.value("active", false);
+  // The message of a change other than the raise starts with it ("cleared: ...").
+  const std::string change = fields.value("change", "raised");
   std::string message = e.message;
-  if (!active && message.starts_with("cleared: ")) {
-    message.erase(0, 9);
+  if (change != "raised" && message.starts_with(change + ": ")) {
+    message.erase(0, change.size() + 2);
   }
-  return nlohmann::json{{"id", second == std::string::npos ? event_id : event_id.substr(second + 1)},
+  return nlohmann::json{{"id", fields.value("id", "")},
+                        {"change", change},
                         {"rule", fields.value("rule", "")},
                         {"entity", e.source_node},
                         {"message", message},
                         {"facts", fields.value("facts", nlohmann::json::array())},
-                        {"active", active},
+                        {"active", fields.value("active", false)},
+                        {"acked", fields.value("acked", false)},
+                        {"acked_by", fields.value("acked_by", "")},
+                        {"ack_comment", fields.value("ack_comment", "")},
                         {"time", time_text(e.time)}};
 }
 
@@ -248,9 +249,10 @@ Result<std::uint16_t> Dashboard::start() {
     return port.error();
   }
   m.context.set_server(m.server.get());
-  m.subscription =
-      m.context.gateway.live().subscribe([this](const cloud::LiveUpdate& u) { impl_->on_value(u); },
-                                         [this](const historian::Event& e) { impl_->on_event(e); });
+  // With the current values: machines that do not change are shown from the first request.
+  m.subscription = m.context.gateway.live().subscribe_with_current(
+      [this](const cloud::LiveUpdate& u) { impl_->on_value(u); },
+      [this](const historian::Event& e) { impl_->on_event(e); });
   return port;
 }
 

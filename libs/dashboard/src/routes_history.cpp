@@ -163,8 +163,50 @@ Response aggregate(Context& c, const Request& r) {
 }
 
 nlohmann::json alarm_json(const cloud::Alarm& a) {
-  return {{"id", a.id},       {"rule", a.rule},     {"entity", a.entity},       {"message", a.message},
-          {"facts", a.facts}, {"active", a.active}, {"time", time_text(a.time)}};
+  return {{"id", a.id},
+          {"change", to_string(a.change)},
+          {"rule", a.rule},
+          {"entity", a.entity},
+          {"message", a.message},
+          {"facts", a.facts},
+          {"active", a.active},
+          {"acked", a.acked},
+          {"acked_by", a.acked_by},
+          {"ack_comment", a.ack_comment},
+          {"time", time_text(a.time)}};
+}
+
+// An operator's acknowledgement (OPC 10000-9 §5.7.3 Acknowledge): the knowledge loop records it
+// (historian, OPC UA event); the alarm as it is then.
+Response acknowledge(Context& c, const Request& r, const Session& s) {
+  std::string comment;
+  if (!r.body.empty()) {
+    auto body = web::json_body(r);
+    if (!body) {
+      return web::error_response(400, body.error().message);
+    }
+    if (!body->is_object() || (body->contains("comment") && !(*body)["comment"].is_string())) {
+      return web::error_response(400, R"(expected {"comment": "..."} or no body)");
+    }
+    comment = body->value("comment", "");
+    if (comment.size() > 1000) {
+      return web::error_response(400, "the comment is longer than 1000 characters");
+    }
+  }
+  auto* k = c.gateway.knowledge();
+  const std::string& id = r.path_params.at("id");
+  if (k == nullptr) {
+    return web::error_response(404, fmt::format("no alarm '{}' (the cloud runs no knowledge loop)", id));
+  }
+  if (auto acked = k->acknowledge(id, s.user, comment); !acked) {
+    return web::error_response(acked.error().code == Errc::not_found ? 404 : 409, acked.error().message);
+  }
+  for (const auto& a : k->active_alarms()) {
+    if (a.id == id) {
+      return web::json_response(alarm_json(a));
+    }
+  }
+  return web::json_response({{"id", id}, {"acked", true}, {"acked_by", s.user}});
 }
 
 // The alarms raised and cleared in a range, as the historian keeps them (cloud::alarm_event).
@@ -280,6 +322,9 @@ Status add_history_routes(web::Router& router, Context& c) {
   SF_TRY(router.add("GET", "/api/alarms", guarded(c, Role::viewer, [&c](const Request& r, const Session&) {
                       return alarms(c, r);
                     })));
+  SF_TRY(router.add("POST", "/api/alarms/{id}/ack",
+                    guarded(c, Role::operator_,
+                            [&c](const Request& r, const Session& s) { return acknowledge(c, r, s); })));
   SF_TRY(router.add("GET", "/api/oee",
                     guarded(c, Role::viewer, [&c](const Request& r, const Session&) { return oee(c, r); })));
   return {};

@@ -422,7 +422,7 @@ TEST_F(DashboardApi, MachinesShowTheirStateAndTakeCommandsFromOperatorsOnly) {
   })) << m.raw.body();
   EXPECT_EQ(m.body.at("server"), "scara");
   EXPECT_TRUE(m.body.at("connected").get<bool>());
-  EXPECT_TRUE(m.body.at("values").contains("Tags/sensor.temperature"));
+  EXPECT_TRUE(m.body.at("values").contains("PackML/Admin/StateCurrentTime")) << m.body.at("values");
   auto all = victor.get("/api/machines");
   ASSERT_EQ(all.status, 200);
   EXPECT_EQ(all.body.size(), machines_of(rig_->layout).size());
@@ -508,6 +508,22 @@ TEST_F(DashboardApi, AlarmsComeFromTheKnowledgeLoopWithTheirExplanation) {
   EXPECT_NE(a.at("message").get<std::string>().find("gripper lost vacuum"), std::string::npos) << a;
   EXPECT_FALSE(a.at("facts").empty());
   EXPECT_TRUE(a.at("active").get<bool>());
+  EXPECT_FALSE(a.at("acked").get<bool>());
+
+  // Acknowledged by an operator once, with a comment; a viewer may not.
+  const std::string ack = "/api/alarms/" + a.at("id").get<std::string>() + "/ack";
+  EXPECT_EQ(victor.post(ack, R"({"comment": "seen"})").status, 403);
+  auto olga = as("olga");
+  EXPECT_EQ(olga.post(ack, R"({"comment": 7})").status, 400);
+  EXPECT_EQ(olga.post(ack, "{oops").status, 400);
+  EXPECT_EQ(olga.post("/api/alarms/no-such-alarm/ack").status, 404);
+  auto acked = olga.post(ack, R"({"comment": "vacuum hose replaced"})");
+  ASSERT_EQ(acked.status, 200) << acked.raw.body();
+  EXPECT_TRUE(acked.body.at("acked").get<bool>());
+  EXPECT_EQ(acked.body.at("acked_by"), "olga");
+  EXPECT_EQ(acked.body.at("ack_comment"), "vacuum hose replaced");
+  EXPECT_EQ(olga.post(ack).status, 409);  // once
+
   u.sample.source_time += 1s;
   u.sample.value = std::string();
   rig_->gateway->live().publish(u);
@@ -519,8 +535,9 @@ TEST_F(DashboardApi, AlarmsComeFromTheKnowledgeLoopWithTheirExplanation) {
   Reply history;
   ASSERT_TRUE(eventually([&] {
     history = victor.get("/api/alarms?active=false&from=-1h");
-    return std::count_if(history.body.begin(), history.body.end(),
-                         [](const json& x) { return x.at("rule") == "fault"; }) >= 2;
+    return std::count_if(history.body.begin(), history.body.end(), [](const json& x) {
+             return x.at("rule") == "fault";
+           }) >= 3;  // raised, acknowledged, cleared
   })) << history.raw.body();
   EXPECT_EQ(victor.get("/api/alarms?active=maybe").status, 400);
 }

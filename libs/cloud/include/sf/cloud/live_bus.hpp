@@ -49,6 +49,11 @@ class LiveBus {
   // servers at the same time (a thread per server): a subscriber guards its own state. Keep them
   // short and never call back into the bus from them.
   [[nodiscard]] Subscription subscribe(Callback on_value, EventCallback on_event = nullptr);
+  // The same, and first the newest value of every series the bus has carried (as `replayed`
+  // updates, on the calling thread): a subscriber that keeps current values starts with them
+  // instead of waiting for each to change (retained values, as a broker keeps them). Live
+  // updates may already come meanwhile; a replayed one may then be older.
+  [[nodiscard]] Subscription subscribe_with_current(Callback on_value, EventCallback on_event = nullptr);
   void publish(const LiveUpdate& update);
   void publish(const historian::Event& event);
   [[nodiscard]] std::size_t subscribers() const;
@@ -61,8 +66,14 @@ class LiveBus {
   };
   [[nodiscard]] std::vector<std::shared_ptr<Entry>> snapshot() const;
 
+  struct Retained {
+    historian::SeriesInfo series;
+    historian::Sample sample;
+  };
+
   mutable std::mutex mutex_;
   std::map<std::size_t, std::shared_ptr<Entry>> entries_;
+  std::map<std::pair<std::string, std::string>, Retained> retained_;  // (server, node id) → newest
   std::size_t next_ = 1;
 };
 

@@ -5,8 +5,8 @@
 //
 // What becomes which fact (the OPC UA model names of libs/factory → the ontology's names, the
 // line's individuals named by line::iri_name as `plant ontology` writes them):
-//   /Objects/Machines/<M>/PackML/Status/StateCurrent  (p:<M> sf:state "<PackML state name>")
-//   /Objects/Machines/<M>/Fault (not empty)             (p:<M> sf:state "fault: <text>") instead
+//   /Objects/Machines/<M>/Fault (not empty)             (p:<M> sf:state "fault: <text>"), gone when
+//        the text is empty again (the PackML state itself is not a fact: no rule asks for it)
 //   /Objects/Machines/<M>/Tags/axis<N>.position         (p:<M>Axis<N> sf:position v), v in degrees
 //        from a rotation unit (the smart robot publishes radians) or in millimetres from a length
 //        unit (metres for the z axis), as sf:minPosition/sf:maxPosition of the axis are written

@@ -47,7 +47,8 @@ class LiveBus {
 
   // Callbacks run on the gateway's threads, one update at a time per server but those of different
   // servers at the same time (a thread per server): a subscriber guards its own state. Keep them
-  // short and never call back into the bus from them.
+  // short. They may publish (callbacks run outside the bus's lock, as the knowledge loop's alarms
+  // do) but never subscribe or unsubscribe.
   [[nodiscard]] Subscription subscribe(Callback on_value, EventCallback on_event = nullptr);
   // The same, and first the newest value of every series the bus has carried (as `replayed`
   // updates, on the calling thread): a subscriber that keeps current values starts with them

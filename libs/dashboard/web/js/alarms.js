@@ -1,0 +1,70 @@
+// The knowledge loop's alarms: each violation the reasoner found, with its rule, message and the
+// matched facts (the explanation: the triples that made the rule fire), live on topic `alarms`,
+// acknowledged by an operator with an optional comment.
+import * as api from './api.js';
+import {$, clear, el, guard, millis, notify, time} from './ui.js';
+
+export class AlarmList {
+  constructor(live, session) {
+    this.session = session;
+    this.alarms = new Map();  // id → alarm
+    live.subscribe('alarms', (value) => this.receive(value));
+    live.on('open', guard(() => this.load()));
+  }
+
+  async load() {
+    const list = await api.alarms({active: true});
+    this.alarms = new Map(list.map((a) => [a.id, a]));
+    this.render();
+  }
+
+  // The stream sends the active alarms as a list, or one alarm that was raised, changed or cleared.
+  receive(value) {
+    if (Array.isArray(value)) {
+      this.alarms = new Map(value.map((a) => [a.id, a]));
+    } else if (value && value.id !== undefined) {
+      this.alarms.set(value.id, {...this.alarms.get(value.id), ...value});
+    } else if (value && Array.isArray(value.alarms)) {
+      this.alarms = new Map(value.alarms.map((a) => [a.id, a]));
+    }
+    this.render();
+  }
+
+  async acknowledge(alarm, comment) {
+    const acked = await api.acknowledge(alarm.id, comment);
+    this.alarms.set(alarm.id, {...alarm, ...(acked || {acked: true, acked_by: this.session.user})});
+    notify(`alarm ${alarm.rule} on ${alarm.entity} acknowledged`);
+    this.render();
+  }
+
+  card(alarm) {
+    const mayOperate = api.mayOperate(this.session.role);
+    const comment = el('input', {class: 'ack-comment', placeholder: 'comment', 'aria-label': 'comment'});
+    const state = alarm.active === false ? 'cleared' : alarm.acked ? 'acked' : 'active';
+    return el('article', {class: `alarm ${state}`, dataset: {alarm: alarm.id, rule: alarm.rule, entity: alarm.entity,
+      state}},
+    el('header', {},
+      el('span', {class: 'rule', text: alarm.rule}),
+      el('span', {class: 'entity', text: alarm.entity}),
+      el('time', {text: time(alarm.time)}),
+      el('span', {class: 'state', text: state})),
+    el('p', {class: 'message', text: alarm.message}),
+    el('details', {open: true},
+      el('summary', {text: `why: ${(alarm.facts || []).length} facts`}),
+      el('ul', {class: 'facts-list'}, (alarm.facts || []).map((f) => el('li', {text: f})))),
+    alarm.acked ?
+      el('p', {class: 'note acked-by', text: `acknowledged by ${alarm.acked_by || '?'}${alarm.ack_comment ?
+        `: ${alarm.ack_comment}` : ''}`}) :
+      el('div', {class: 'toolbar'}, comment, el('button', {type: 'button', class: 'ack', text: 'Acknowledge',
+        disabled: !mayOperate, title: mayOperate ? '' : 'operators only',
+        on: {click: guard(() => this.acknowledge(alarm, comment.value))}})));
+  }
+
+  render() {
+    const list = [...this.alarms.values()].sort((a, b) => millis(b.time) - millis(a.time));
+    const active = list.filter((a) => a.active !== false).length;
+    $('#alarm-count').textContent = String(active);
+    $('#alarm-count').dataset.state = active ? 'failed' : 'done';
+    clear($('#alarm-list'), list.length ? list.map((a) => this.card(a)) : el('p', {class: 'note', text: 'No alarms.'}));
+  }
+}

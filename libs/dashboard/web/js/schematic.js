@@ -1,0 +1,132 @@
+// The line as a schematic drawn from /api/layout (the layout file's belts with their paths and
+// stations, the robots at their bases, the box uploader and downloader at their stations), each
+// machine and conveyor coloured by its PackML state (OPC 30050 §6.3.3) and marked when faulted.
+// Layout coordinates are metres on the floor with y up; the drawing flips y.
+import {el} from './ui.js';
+
+// How a PackML state reads at a glance.
+const TONES = {
+  Execute: 'ok',
+  Held: 'warn', Holding: 'warn', Unholding: 'warn', Suspended: 'warn', Suspending: 'warn', Unsuspending: 'warn',
+  Stopping: 'warn', Clearing: 'warn',
+  Aborting: 'bad', Aborted: 'bad',
+};
+
+export function tone(machine) {
+  if (!machine || machine.connected === false) return 'off';
+  if (machine.fault) return 'bad';
+  return TONES[machine.state] || 'idle';
+}
+
+const xy = (p) => (Array.isArray(p) ? [Number(p[0]), Number(p[1])] : [Number(p.x), Number(p.y)]);
+
+// The point `at` metres along a polyline.
+function along(points, at) {
+  let left = Number(at) || 0;
+  for (let i = 1; i < points.length; i++) {
+    const [x0, y0] = points[i - 1];
+    const [x1, y1] = points[i];
+    const length = Math.hypot(x1 - x0, y1 - y0);
+    if (left <= length && length > 0) return [x0 + ((x1 - x0) * left) / length, y0 + ((y1 - y0) * left) / length];
+    left -= length;
+  }
+  return points[points.length - 1];
+}
+
+// The layout as belts {name, label, points, stations: [{name, at}]} and machines {name, label, at}.
+export function normalizeLayout(raw) {
+  const stationAt = new Map();
+  const belts = (raw.belts || raw.conveyors || []).map((b) => {
+    const points = (b.path || b.points || []).map(xy);
+    const stations = (b.stations || []).map((s) => ({name: s.name, at: s.at ? xy(s.at) : along(points, s.at_m)}));
+    for (const s of stations) stationAt.set(`${b.name}/${s.name}`, s.at);
+    return {name: b.name, label: b.label || b.name, points, stations};
+  });
+  const place = (m, offset) => {
+    if (m.at || m.position) return xy(m.at || m.position);
+    if (m.base) return xy(m.base);
+    const station = m.station || (m.stations || [])[0];
+    const at = station && stationAt.get(station);
+    return at ? [at[0], at[1] + offset] : null;
+  };
+  const machines = [];
+  const add = (m, kind, offset) => {
+    if (!m || !m.name) return;
+    const at = place(m, offset);
+    if (at) machines.push({name: m.name, label: m.label || m.name, kind: m.kind || kind, at});
+  };
+  for (const r of raw.robots || []) add(r, 'robot', 0.4);
+  add(raw.uploader, 'uploader', -0.4);
+  add(raw.downloader, 'downloader', -0.4);
+  for (const m of raw.machines || []) add(m, 'machine', 0.4);
+  return {belts, machines};
+}
+
+function bounds(layout) {
+  const all = [...layout.belts.flatMap((b) => b.points), ...layout.machines.map((m) => m.at)];
+  const xs = all.map((p) => p[0]);
+  const ys = all.map((p) => -p[1]);
+  const pad = 0.6;
+  const minX = Math.min(...xs) - pad;
+  const minY = Math.min(...ys) - pad;
+  return `${minX} ${minY} ${Math.max(...xs) + pad - minX} ${Math.max(...ys) + pad - minY}`;
+}
+
+const pathText = (points) => points.map(([x, y], i) => `${i ? 'L' : 'M'}${x} ${-y}`).join(' ');
+
+function arrow(points) {
+  const [x0, y0] = points[points.length - 2];
+  const [x1, y1] = points[points.length - 1];
+  const [mx, my] = [(x0 + x1) / 2, -(y0 + y1) / 2];
+  const angle = (Math.atan2(-(y1 - y0), x1 - x0) * 180) / Math.PI;
+  return el('path', {class: 'belt-arrow', d: 'M0.12 0 L-0.08 0.08 L-0.08 -0.08 Z',
+    transform: `translate(${mx} ${my}) rotate(${angle})`});
+}
+
+// Draws the layout into `container`; onSelect(name) when a machine or belt is clicked. Returns
+// {update(machine)} to recolour one machine from its state.
+export function drawSchematic(container, rawLayout, onSelect) {
+  const layout = normalizeLayout(rawLayout);
+  const svg = el('svg', {viewBox: bounds(layout), role: 'img', 'aria-label': 'schematic of the line'});
+  const nodes = new Map();
+  const select = (name) => () => onSelect(name);
+  for (const b of layout.belts) {
+    if (b.points.length < 2) continue;
+    const mid = along(b.points, 0.5);
+    const g = el('g', {class: 'node conveyor', dataset: {machine: b.name}, on: {click: select(b.name)}},
+      el('title', {text: b.label}),
+      el('path', {class: 'belt', d: pathText(b.points)}),
+      el('path', {d: pathText(b.points), stroke: 'transparent', 'stroke-width': 0.35, fill: 'none'}),
+      arrow(b.points),
+      b.stations.map((s) => el('circle', {class: 'station', cx: s.at[0], cy: -s.at[1], r: 0.07})),
+      el('text', {x: mid[0] + 0.05, y: -mid[1] - 0.12, text: b.label}));
+    svg.append(g);
+    nodes.set(b.name, g);
+  }
+  for (const m of layout.machines) {
+    const [x, y] = m.at;
+    const g = el('g', {class: `node ${m.kind}`, dataset: {machine: m.name}, on: {click: select(m.name)}},
+      el('title', {text: m.label}),
+      el('rect', {x: x - 0.35, y: -y - 0.17, width: 0.7, height: 0.34, rx: 0.05}),
+      el('text', {x: x - 0.3, y: -y + 0.06, text: m.label.length > 14 ? m.name : m.label}));
+    svg.append(g);
+    nodes.set(m.name, g);
+  }
+  container.replaceChildren(svg);
+  return {
+    update(machine) {
+      const g = nodes.get(machine.name);
+      if (!g) return;
+      g.dataset.state = machine.state || '';
+      g.dataset.tone = tone(machine);
+      g.classList.toggle('fault', !!machine.fault);
+      const belt = g.querySelector('path.belt');
+      if (belt) belt.dataset.tone = tone(machine);
+      g.querySelector('title').textContent =
+        `${machine.name}: ${machine.state || 'unknown'}${machine.fault ? ` (fault: ${machine.fault})` : ''}`;
+    },
+    select(name) {
+      for (const [key, g] of nodes) g.classList.toggle('selected', key === name);
+    },
+  };
+}

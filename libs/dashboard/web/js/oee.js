@@ -28,7 +28,7 @@ export class OeePanel {
     const result = await api.oee({from, to, buckets: BUCKETS});
     const machines = result.machines || [];
     clear($('#oee-table tbody'), machines.map((o) => row(o.machine, o)),
-      result.line ? row(`line${result.line.machine ? ` (${result.line.machine})` : ''}`, result.line, 'line') : null);
+      result.line ? row(`line${result.line.machine ? ` (${result.line.machine})` : ''}`, result.line, 'line-total') : null);
     const trend = result.trend || [];
     if (!this.chart) {
       this.chart = timeChart($('#oee-trend'), [{label: 'OEE'}, {label: 'availability', width: 1},

@@ -66,10 +66,10 @@ function bounds(layout) {
   const all = [...layout.belts.flatMap((b) => b.points), ...layout.machines.map((m) => m.at)];
   const xs = all.map((p) => p[0]);
   const ys = all.map((p) => -p[1]);
-  const pad = 0.6;
+  const pad = 0.5;
   const minX = Math.min(...xs) - pad;
   const minY = Math.min(...ys) - pad;
-  return `${minX} ${minY} ${Math.max(...xs) + pad - minX} ${Math.max(...ys) + pad - minY}`;
+  return `${minX} ${minY} ${Math.max(...xs) + 2 * pad - minX} ${Math.max(...ys) + pad - minY}`;
 }
 
 const pathText = (points) => points.map(([x, y], i) => `${i ? 'L' : 'M'}${x} ${-y}`).join(' ');
@@ -92,23 +92,25 @@ export function drawSchematic(container, rawLayout, onSelect) {
   const select = (name) => () => onSelect(name);
   for (const b of layout.belts) {
     if (b.points.length < 2) continue;
-    const mid = along(b.points, 0.5);
+    const length = b.points.slice(1).reduce((sum, p, i) => sum + Math.hypot(p[0] - b.points[i][0], p[1] - b.points[i][1]), 0);
+    const tag = along(b.points, length * 0.15);
     const g = el('g', {class: 'node conveyor', dataset: {machine: b.name}, on: {click: select(b.name)}},
       el('title', {text: b.label}),
       el('path', {class: 'belt', d: pathText(b.points)}),
       el('path', {d: pathText(b.points), stroke: 'transparent', 'stroke-width': 0.35, fill: 'none'}),
       arrow(b.points),
       b.stations.map((s) => el('circle', {class: 'station', cx: s.at[0], cy: -s.at[1], r: 0.07})),
-      el('text', {x: mid[0] + 0.05, y: -mid[1] - 0.12, text: b.label}));
+      el('text', {class: 'belt-label', x: tag[0] + 0.1, y: -tag[1] - 0.12, text: b.label}));
     svg.append(g);
     nodes.set(b.name, g);
   }
   for (const m of layout.machines) {
     const [x, y] = m.at;
+    const w = Math.max(0.8, 0.085 * m.name.length + 0.15);
     const g = el('g', {class: `node ${m.kind}`, dataset: {machine: m.name}, on: {click: select(m.name)}},
       el('title', {text: m.label}),
-      el('rect', {x: x - 0.35, y: -y - 0.17, width: 0.7, height: 0.34, rx: 0.05}),
-      el('text', {x: x - 0.3, y: -y + 0.06, text: m.label.length > 14 ? m.name : m.label}));
+      el('rect', {x: x - w / 2, y: -y - 0.15, width: w, height: 0.3, rx: 0.05}),
+      el('text', {x, y: -y + 0.05, 'text-anchor': 'middle', text: m.name}));
     svg.append(g);
     nodes.set(m.name, g);
   }

@@ -116,7 +116,12 @@ export function showLiveState(live) {
     badge.dataset.connected = up ? 'true' : 'false';
   };
   set(false);
-  live.on('open', () => set(true));
+  // How often the stream was opened: a page that refetches on every open is still "live".
+  badge.dataset.opens = '0';
+  live.on('open', () => {
+    badge.dataset.opens = String(Number(badge.dataset.opens) + 1);
+    set(true);
+  });
   live.on('close', () => set(false));
   live.on('error', (message) => notify(`live: ${message.error}${message.topics ? ` ${message.topics.join(', ')}` : ''}`,
     'error'));

@@ -42,6 +42,32 @@ await scenario(async (browser, opts) => {
   check((await errors(page)).some((e) => e.includes('1 or more')), `a quantity of 0 is refused: ${await errors(page)}`);
   await page.click('#order button[type=submit]').catch(() => {});
   check((await pageFetch(page, 'GET', '/api/orders')).body.length === before, 'nothing was ordered meanwhile');
+  // The page's checks and the server's agree: what the page refuses, the API refuses with 400 and
+  // stores nothing; a full box passes the page's checks.
+  const cases = [
+    {box: box.name, candy: {}},
+    {box: box.name, candy: {[first]: 0}},
+    {box: box.name, candy: {[first]: -1}},
+    {box: box.name, candy: {[first]: 1.5}},
+    {box: box.name, candy: {[first]: box.capacity, [second]: 1}},
+    {box: box.name, candy: {'no-such-candy': 1}},
+    {box: 'no-such-box', candy: {[first]: 1}},
+  ];
+  const verdicts = await page.evaluate(async (cases, full) => {
+    const {checkOrder} = await import('/js/order_check.js');
+    const catalog = await (await fetch('/api/catalog')).json();
+    const lines = (c) => Object.entries(c.candy).map(([candy, quantity]) => ({candy, quantity}));
+    return {refused: cases.map((c) => checkOrder(catalog, c.box, lines(c)).errors),
+      full: checkOrder(catalog, full.box, lines(full)).errors};
+  }, cases, {box: box.name, candy: {[first]: box.capacity}});
+  check(verdicts.full.length === 0, `a full ${box.name} passes the page's checks`);
+  for (const [i, c] of cases.entries()) {
+    const answer = await pageFetch(page, 'POST', '/api/orders', {body: c});
+    check(verdicts.refused[i].length > 0 && answer.status === 400 && typeof answer.body.error === 'string',
+      `${JSON.stringify(c)}: the page refuses it (${verdicts.refused[i].join('; ')}) and so does the API ` +
+      `(${answer.status} ${JSON.stringify(answer.body)})`);
+  }
+  check((await pageFetch(page, 'GET', '/api/orders')).body.length === before, 'no refused order was stored');
   const width = await page.evaluate(() => [document.documentElement.scrollWidth, window.innerWidth]);
   check(width[0] <= width[1], `the order form fits the phone's width (${width[0]} of ${width[1]} px)`);
   await screenshot(page, opts.screenshots, 'consumer-order-form-refused');

@@ -42,8 +42,11 @@ def prerequisites():
 
 
 def write_users(tmp):
-    """A users file with one user of each role, all with the same password."""
+    """A users file with one user of each role, all with the same password. Consumers reach the
+    dashboard only: their role grants no node of the OPC UA servers (a role of the file's own)."""
     path = os.path.join(tmp, "users.yaml")
+    with open(path, "w") as f:
+        f.write('users: []\nroles:\n  consumer:\n    read: ["!*"]\n')
     secret = os.path.join(tmp, "password")
     with open(secret, "w") as f:
         f.write(PASSWORD + "\n")

@@ -13,8 +13,10 @@ export function checkOrder(catalog, box, lines) {
   const candy = {};
   for (const line of lines) {
     const quantity = Number(line.quantity);
-    if (!known.has(line.candy)) {
-      errors.push(`choose a candy type for every line`);
+    if (!line.candy) {
+      errors.push('choose a candy type for every line');
+    } else if (!known.has(line.candy)) {
+      errors.push(`${line.candy} is not a candy of the catalog`);
     } else if (line.candy in candy) {
       errors.push(`${line.candy} is in more than one line`);
     } else if (!Number.isInteger(quantity) || quantity < 1) {

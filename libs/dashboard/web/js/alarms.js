@@ -18,16 +18,21 @@ export class AlarmList {
     this.render();
   }
 
-  // The stream sends the active alarms as a list, or one alarm that was raised, changed or cleared.
+  // The stream sends the active alarms as a list (an acknowledgement this page knows of is kept
+  // when the list leaves it out), or one alarm that was raised, changed or cleared.
   receive(value) {
-    if (Array.isArray(value)) {
-      this.alarms = new Map(value.map((a) => [a.id, a]));
+    const list = Array.isArray(value) ? value : value && Array.isArray(value.alarms) ? value.alarms : null;
+    if (list) {
+      this.alarms = new Map(list.map((a) => [a.id, {...this.known(a.id), ...a}]));
     } else if (value && value.id !== undefined) {
       this.alarms.set(value.id, {...this.alarms.get(value.id), ...value});
-    } else if (value && Array.isArray(value.alarms)) {
-      this.alarms = new Map(value.alarms.map((a) => [a.id, a]));
     }
     this.render();
+  }
+
+  known(id) {
+    const before = this.alarms.get(id);
+    return before && before.acked ? {acked: true, acked_by: before.acked_by, ack_comment: before.ack_comment} : {};
   }
 
   async acknowledge(alarm, comment) {

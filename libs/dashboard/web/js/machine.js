@@ -4,7 +4,7 @@
 // its series from the historian's aggregates.
 import * as api from './api.js';
 import {timeChart} from './chart.js';
-import {$, clear, el, guard, millis, notify, value} from './ui.js';
+import {$, clear, el, guard, millis, notify, time, value} from './ui.js';
 
 const COMMANDS = ['Start', 'Stop', 'Hold', 'Unhold', 'Reset', 'Clear', 'Abort'];
 
@@ -83,12 +83,16 @@ export class MachinePanel {
     }
     const rows = [
       ['PackML state', machine.state], ['Mode', machine.mode], ['Kind', machine.kind], ['Server', machine.server],
-      ['Job', machine.job ? `${machine.job.id || ''} ${machine.job.operation || ''} (${machine.job.queued ?? 0} queued)` : ''],
+      ['Job', machine.job && machine.job.id ?
+        `${machine.job.id} ${machine.job.operation || ''} (${machine.job.queued ?? 0} queued)` : ''],
       ['Processed', machine.processed], ['Defective', machine.defective],
       ...Object.entries(machine.values || {}).sort(([a], [b]) => a.localeCompare(b)),
     ];
-    clear($('#machine-values tbody'), rows.filter(([, v]) => v !== undefined && v !== '').map(([k, v]) =>
-      el('tr', {}, el('th', {text: k}), el('td', {text: value(v)}))));
+    // A current value comes as {value, time} (the source time of its sample) or bare.
+    const shown = (v) => (v && typeof v === 'object' && 'value' in v ? value(v.value) : value(v));
+    const when = (v) => (v && typeof v === 'object' && v.time ? time(v.time) : '');
+    clear($('#machine-values tbody'), rows.filter(([, v]) => v !== undefined && v !== null && v !== '').map(([k, v]) =>
+      el('tr', {dataset: {path: k}}, el('th', {text: k}), el('td', {text: shown(v)}), el('td', {class: 'note', text: when(v)}))));
   }
 
   async command(command) {

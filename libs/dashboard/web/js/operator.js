@@ -14,7 +14,7 @@ const live = new Live();
 showLiveState(live);
 
 function machineRow(m) {
-  const job = m.job ? `${m.job.id || ''} ${m.job.operation || ''}`.trim() : '';
+  const job = m.job && m.job.id ? `${m.job.id} ${m.job.operation || ''}`.trim() : '';
   return el('tr', {dataset: {machine: m.name, state: m.state || '', tone: tone(m)}},
     el('td', {}, el('button', {type: 'button', class: 'link', text: m.name, dataset: {select: m.name}})),
     el('td', {class: 'state-cell', text: m.connected === false ? 'not connected' : m.state || ''}),

@@ -63,6 +63,29 @@ export async function newPage(browser, {width = 1280, height = 900, mobile = fal
   return page;
 }
 
+// Keeps every WebSocket the page opens in window.sfSockets, so a scenario can cut the live
+// stream as a network would (before the page's scripts run; not subject to its CSP).
+export async function recordSockets(page) {
+  await page.evaluateOnNewDocument(() => {
+    const Native = window.WebSocket;
+    window.sfSockets = [];
+    window.WebSocket = class extends Native {
+      constructor(...args) {
+        super(...args);
+        window.sfSockets.push(this);
+      }
+    };
+  });
+}
+
+// Closes the page's open live stream; resolves once the page has opened it again.
+export async function cutLiveStream(page) {
+  const opens = Number(await page.$eval('#live', (e) => e.dataset.opens));
+  await page.evaluate(() => window.sfSockets.filter((s) => s.readyState === WebSocket.OPEN).forEach((s) => s.close()));
+  await page.waitForFunction((n) => Number(document.querySelector('#live').dataset.opens) > n, {}, opens);
+  note(`live stream cut and opened again (${opens + 1} opens)`);
+}
+
 // Fails on any uncaught error or CSP refusal the page had.
 export function checkNoProblems(page, what) {
   check(page.problems.length === 0, `${what} ran without uncaught errors or CSP refusals: ${page.problems.join('; ')}`);

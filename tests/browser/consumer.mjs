@@ -1,7 +1,9 @@
 // A consumer on a phone-sized screen: logs in, is stopped by the checks of the order form (too
 // many candies, a quantity of 0) with nothing sent, places a valid order and follows it through
-// the live stream until it is done, with its machines and a matching inspection.
-import {check, checkNoProblems, login, note, open, pageFetch, scenario, screenshot, waitLive, newPage} from './browser.mjs';
+// the live stream (cut once on the way) until it is done, with its machines and a matching
+// inspection.
+import {check, checkNoProblems, cutLiveStream, login, newPage, note, open, pageFetch, recordSockets, scenario, screenshot, waitLive}
+  from './browser.mjs';
 
 const DONE_MS = 900000;  // a box through the simulated line takes minutes on a loaded machine
 
@@ -20,6 +22,7 @@ const errors = (page) => page.$$eval('#order-errors li', (items) => items.map((l
 
 await scenario(async (browser, opts) => {
   const page = await newPage(browser, {width: 390, height: 844, mobile: true});
+  await recordSockets(page);
   const orderGets = [];
   page.on('request', (r) => { if (/\/api\/orders\/[^/?]+$/.test(new URL(r.url()).pathname) && r.method() === 'GET') orderGets.push(r.url()); });
   await open(page, `${opts.url}/index.html`);
@@ -84,6 +87,9 @@ await scenario(async (browser, opts) => {
   check(id.length > 0, `the order was placed: ${id}`);
   await page.waitForSelector('#milestones li[data-step=accepted].reached');
   await screenshot(page, opts.screenshots, 'consumer-order-accepted');
+  // The stream lost (as on a phone changing networks): the page opens it again, subscribes the
+  // order again and goes on following it.
+  await cutLiveStream(page);
 
   // Followed live until done.
   await page.waitForSelector('#tracking[data-state=done], #tracking[data-state=failed], #tracking[data-state=cancelled]',

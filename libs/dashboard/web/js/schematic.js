@@ -33,12 +33,15 @@ function along(points, at) {
   return points[points.length - 1];
 }
 
-// The layout as belts {name, label, points, stations: [{name, at}]} and machines {name, label, at}.
+// The layout as belts {name, label, points, stations: [{name, at}]} and machines {name, label, at}:
+// /api/layout's belts (path, stations with at_m or point) and machines (at their first station),
+// or a layout file's robots (base), uploader and downloader.
 export function normalizeLayout(raw) {
   const stationAt = new Map();
   const belts = (raw.belts || raw.conveyors || []).map((b) => {
     const points = (b.path || b.points || []).map(xy);
-    const stations = (b.stations || []).map((s) => ({name: s.name, at: s.at ? xy(s.at) : along(points, s.at_m)}));
+    const stations = (b.stations || []).map((s) => ({name: s.name,
+      at: s.point ? xy(s.point) : s.at ? xy(s.at) : along(points, s.at_m)}));
     for (const s of stations) stationAt.set(`${b.name}/${s.name}`, s.at);
     return {name: b.name, label: b.label || b.name, points, stations};
   });
@@ -58,7 +61,8 @@ export function normalizeLayout(raw) {
   for (const r of raw.robots || []) add(r, 'robot', 0.4);
   add(raw.uploader, 'uploader', -0.4);
   add(raw.downloader, 'downloader', -0.4);
-  for (const m of raw.machines || []) add(m, 'machine', 0.4);
+  // Transfers below their belt, robots above it.
+  for (const m of raw.machines || []) add(m, 'machine', ['uploader', 'downloader'].includes(m.kind) ? -0.4 : 0.4);
   return {belts, machines};
 }
 

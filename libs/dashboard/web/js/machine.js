@@ -62,9 +62,27 @@ export class MachinePanel {
     await this.loadTrend();
   }
 
-  // A machine from the list or the stream (missing values kept from before).
+  // A machine from the list or the stream (missing values kept from before). The stream's
+  // updates carry the summary only: the current values are fetched again, at most once a second.
   update(machine) {
-    if (machine && machine.name === this.name) this.render({...this.machine, ...machine});
+    if (!machine || machine.name !== this.name) return;
+    this.render({...this.machine, ...machine});
+    if (this.refetch) return;
+    this.refetch = setTimeout(guard(async () => {
+      const name = this.name;
+      try {
+        const detail = await api.machine(name);
+        if (name === this.name) this.render({...detail, ...this.latest()});
+      } finally {
+        this.refetch = null;
+      }
+    }), 1000);
+  }
+
+  // The stream's summary is newer than a fetched detail's: it wins, the detail adds the values.
+  latest() {
+    const keys = ['state', 'mode', 'fault', 'connected', 'processed', 'defective', 'job'];
+    return Object.fromEntries(keys.filter((k) => this.machine && k in this.machine).map((k) => [k, this.machine[k]]));
   }
 
   render(machine) {

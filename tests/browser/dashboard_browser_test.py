@@ -42,11 +42,8 @@ def prerequisites():
 
 
 def write_users(tmp):
-    """A users file with one user of each role, all with the same password. Consumers reach the
-    dashboard only: their role grants no node of the OPC UA servers (a role of the file's own)."""
+    """A users file with one user of each role, all with the same password."""
     path = os.path.join(tmp, "users.yaml")
-    with open(path, "w") as f:
-        f.write('users: []\nroles:\n  consumer:\n    read: ["!*"]\n')
     secret = os.path.join(tmp, "password")
     with open(secret, "w") as f:
         f.write(PASSWORD + "\n")
@@ -56,20 +53,18 @@ def write_users(tmp):
 
 
 def dashboard_url(line, run_dir):
-    """The dashboard's URL the cloud printed (its log, or the line's output)."""
-    pattern = re.compile(r"https?://127\.0\.0\.1:\d+")
+    """The dashboard's URL the cloud printed in its log ("dashboard on http://HOST:PORT/")."""
+    pattern = re.compile(r"dashboard on (https?://[^/\s]+)")
     found = []
 
     def printed():
-        texts = [line.output()]
         log = os.path.join(run_dir, "log", "cloud.log")
-        if os.path.exists(log):
-            texts.append(open(log, errors="replace").read())
-        for text in texts:
-            for match in pattern.finditer(text):
-                found.append(match.group(0))
-                return True
-        return False
+        if not line.alive():
+            fail(f"the line ended:\n{line.output()}")
+        match = pattern.search(open(log, errors="replace").read()) if os.path.exists(log) else None
+        if match:
+            found.append(match.group(1))
+        return bool(match)
 
     wait_for(printed, 120, "the dashboard's URL from the cloud", interval=0.5)
     return found[0]
@@ -87,16 +82,18 @@ def scenario(script, url, user, screenshots, *args):
 
 
 def main():
-    web_root = prerequisites()
+    prerequisites()
     screenshots = os.environ.get("SF_SCREENSHOTS") or os.path.abspath("browser-screenshots")
     os.makedirs(screenshots, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="dashboard_browser_") as tmp:
         users = write_users(tmp)
         run_dir = os.path.join(tmp, "run")
         base = free_port_range(len(CONTROLLERS) + 1)
+        # A port of its own, not 0: a cloud the supervisor starts again listens where the pages were.
+        http = free_port_range(1)
         line = Background([binary(), "line", "--run-dir", run_dir, "--opcua-base-port", str(base),
                            "--partition", f"dashboard-browser-{uuid.uuid4().hex[:8]}",
-                           "--cloud-config", write_cloud_config(tmp, base), "--http", "0", "--web-root", web_root,
+                           "--cloud-config", write_cloud_config(tmp, base), "--http", str(http),
                            "--web-users", users, "--json", "--status-interval", "2"],
                           log=os.path.join(tmp, "line.log"))
         rc = None

@@ -17,7 +17,7 @@ import subprocess
 import tempfile
 import uuid
 
-from line_harness import CONTROLLERS, free_port_range, plant_control, stop_line, wait_ready, write_cloud_config
+from line_harness import CONTROLLERS, free_port_range, plant_control, stop_line, wait_ready
 from sftest import Background, binary, check, fail, run, skip, source_dir, wait_for
 
 CHROMIUM = os.environ.get("SF_CHROMIUM", "/usr/bin/chromium")
@@ -93,7 +93,7 @@ def main():
         http = free_port_range(1)
         line = Background([binary(), "line", "--run-dir", run_dir, "--opcua-base-port", str(base),
                            "--partition", f"dashboard-browser-{uuid.uuid4().hex[:8]}",
-                           "--cloud-config", write_cloud_config(tmp, base), "--http", str(http),
+                           "--historian", f"sqlite:{tmp}/history.db", "--http", str(http),
                            "--web-users", users, "--json", "--status-interval", "2"],
                           log=os.path.join(tmp, "line.log"))
         rc = None

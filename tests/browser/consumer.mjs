@@ -100,6 +100,9 @@ await scenario(async (browser, opts) => {
   for (const step of ['accepted', 'awarded', 'loaded', 'done']) check(reached.includes(step), `the page shows the step ${step}`);
   const machines = await page.$eval('#order-machines', (e) => e.textContent);
   check(machines && machines !== 'none yet', `the page names the machines that made it: ${machines}`);
+  // The inspection comes with the order service's LastInspection value, not with its step events:
+  // it may follow "done".
+  await page.waitForFunction(() => document.querySelector('#order-inspection').dataset.matches);
   const inspection = await page.$eval('#order-inspection', (e) => [e.textContent, e.dataset.matches]);
   check(inspection[1] === 'true', `the inspection matches the order: ${inspection[0]}`);
   const steps = await page.$$eval('#steps li', (items) => items.length);

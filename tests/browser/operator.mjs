@@ -98,7 +98,8 @@ await scenario(async (browser, opts) => {
   const card = `#alarm-list .alarm[data-alarm="${alarm.id}"]`;
   await page.type(`${card} .ack-comment`, 'belt cleared');
   await page.click(`${card} button.ack`);
-  await page.waitForSelector(`${card} .acked-by`);
+  await page.waitForSelector(`${card} .acked-by, #messages .message.error`);
+  check(await page.$(`${card} .acked-by`), `the page shows the alarm acknowledged: ${await messages(page)}`);
   const acked = (await pageFetch(page, 'GET', '/api/alarms')).body.find((a) => a.id === alarm.id);
   check(acked && acked.acked && acked.acked_by === opts.user, `the API has the alarm acknowledged by ${opts.user}: ${JSON.stringify(acked)}`);
 

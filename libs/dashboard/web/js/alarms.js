@@ -67,6 +67,10 @@ export class AlarmList {
 
   render() {
     const list = [...this.alarms.values()].sort((a, b) => millis(b.time) - millis(a.time));
+    // The same alarms again (the stream repeats the list): the cards stay, with what was typed.
+    const signature = JSON.stringify(list);
+    if (signature === this.shown) return;
+    this.shown = signature;
     const active = list.filter((a) => a.active !== false).length;
     $('#alarm-count').textContent = String(active);
     $('#alarm-count').dataset.state = active ? 'failed' : 'done';

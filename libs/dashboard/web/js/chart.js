@@ -28,7 +28,8 @@ export function timeChart(container, series, {onZoom, onReset, height = 220, per
     }))],
     hooks: {
       setSelect: [(u) => {
-        if (!onZoom || u.select.width < 2) return;
+        // Nothing drawn, nothing to zoom into (the x scale of an empty chart is no time range).
+        if (!onZoom || u.select.width < 2 || u.data[0].length < 2) return;
         const from = u.posToVal(u.select.left, 'x') * 1000;
         const to = u.posToVal(u.select.left + u.select.width, 'x') * 1000;
         u.setSelect({left: 0, top: 0, width: 0, height: 0}, false);

@@ -20,6 +20,9 @@ const ALLOWED = {
   Aborted: ['Clear'],
 };
 
+// The series a machine's trend shows first: motion, then the PackML state.
+const TREND_FIRST = [/speed$/, /position$/, /odometer$/, /temperature/i, /PackML\/Status\/StateCurrent$/];
+
 export class MachinePanel {
   constructor(live, session) {
     this.live = live;
@@ -56,9 +59,9 @@ export class MachinePanel {
     this.render(await api.machine(name));
     this.unsubscribe = this.live.subscribe(`machine/${name}`, (m) => { if (m && m.name === this.name) this.render(m); });
     const list = await api.series({server: name});
-    const numeric = list.filter((s) => !/Status\/StateCurrent|UnitModeCurrent|Name$|Id$/.test(s.browse_path));
-    clear($('#trend-series'), (numeric.length ? numeric : list).map((s) =>
-      el('option', {value: s.id, text: `${s.browse_path}${s.unit ? ` [${s.unit}]` : ''}`})));
+    const chosen = TREND_FIRST.map((re) => list.find((s) => re.test(s.browse_path))).find(Boolean) || list[0];
+    clear($('#trend-series'), list.map((s) => el('option', {value: s.id, selected: s === chosen,
+      text: `${s.browse_path.replace(/^\/Objects\/Machines\/[^/]+\//, '')}${s.unit ? ` [${s.unit}]` : ''}`})));
     await this.loadTrend();
   }
 

@@ -13,14 +13,39 @@ import {$, clear, el, guard, showLiveState, startSession} from './ui.js';
 const live = new Live();
 showLiveState(live);
 
-function machineRow(m) {
-  const job = m.job && m.job.id ? `${m.job.id} ${m.job.operation || ''}`.trim() : '';
-  return el('tr', {dataset: {machine: m.name, state: m.state || '', tone: tone(m)}},
-    el('td', {}, el('button', {type: 'button', class: 'link', text: m.name, dataset: {select: m.name}})),
-    el('td', {class: 'state-cell', text: m.connected === false ? 'not connected' : m.state || ''}),
-    el('td', {text: m.mode || ''}), el('td', {text: job}),
-    el('td', {class: 'num', text: m.processed ?? ''}), el('td', {class: 'num', text: m.defective ?? ''}),
-    el('td', {class: 'fault-cell', text: m.fault || ''}));
+// The machine list: one row per machine, updated in place (a row rebuilt on every update would
+// take the button away from under the pointer).
+class MachineTable {
+  constructor(body) {
+    this.body = body;
+    this.rows = new Map();
+  }
+
+  row(name) {
+    let tr = this.rows.get(name);
+    if (!tr) {
+      tr = el('tr', {dataset: {machine: name}},
+        el('td', {}, el('button', {type: 'button', class: 'link', text: name, dataset: {select: name}})),
+        ...['state-cell', 'mode', 'job', 'num processed', 'num defective', 'fault-cell'].map((c) => el('td', {class: c})));
+      this.rows.set(name, tr);
+      const names = [...this.rows.keys()].sort();
+      clear(this.body, names.map((n) => this.rows.get(n)));
+    }
+    return tr;
+  }
+
+  update(m) {
+    const tr = this.row(m.name);
+    const cells = tr.children;
+    const job = m.job && m.job.id ? `${m.job.id} ${m.job.operation || ''}`.trim() : '';
+    const texts = [m.connected === false ? 'not connected' : m.state || '', m.mode || '', job, m.processed ?? '',
+      m.defective ?? '', m.fault || ''];
+    texts.forEach((text, i) => {
+      if (cells[i + 1].textContent !== String(text)) cells[i + 1].textContent = String(text);
+    });
+    tr.dataset.state = m.state || '';
+    tr.dataset.tone = tone(m);
+  }
 }
 
 async function openDesk(session) {
@@ -37,8 +62,7 @@ async function openDesk(session) {
     if (name) select(name);
   });
 
-  const render = () => clear($('#machines tbody'),
-    [...machines.values()].sort((a, b) => a.name.localeCompare(b.name)).map(machineRow));
+  const table = new MachineTable($('#machines tbody'));
   // The list, or one machine that changed.
   const receive = (value) => {
     for (const m of Array.isArray(value) ? value : [value]) {
@@ -46,9 +70,9 @@ async function openDesk(session) {
       const merged = {...machines.get(m.name), ...m};
       machines.set(m.name, merged);
       schematic.update(merged);
+      table.update(merged);
       panel.update(merged);
     }
-    render();
   };
   live.subscribe('machines', receive);
   const reload = guard(async () => receive(await api.machines()));

@@ -84,10 +84,10 @@ await scenario(async (browser, opts) => {
   // Its alarm with the explanation.
   const alarmSel = '#alarm-list .alarm[data-state=active]';
   await page.waitForFunction((sel, n) => [...document.querySelectorAll(sel)].some((a) =>
-    `${a.dataset.entity} ${a.querySelector('.message').textContent}`.toLowerCase().includes(n.toLowerCase())),
+    `${a.dataset.entity} ${a.querySelector('.alarm-message').textContent}`.toLowerCase().includes(n.toLowerCase())),
   {timeout: 180000}, alarmSel, name);
   const alarm = await page.$$eval(alarmSel, (cards, n) => cards.map((a) => ({
-    id: a.dataset.alarm, rule: a.dataset.rule, entity: a.dataset.entity, message: a.querySelector('.message').textContent,
+    id: a.dataset.alarm, rule: a.dataset.rule, entity: a.dataset.entity, message: a.querySelector('.alarm-message').textContent,
     facts: [...a.querySelectorAll('.facts-list li')].map((li) => li.textContent),
   })).find((a) => `${a.entity} ${a.message}`.toLowerCase().includes(n.toLowerCase())), name);
   check(alarm.rule && alarm.message, `the alarm names its rule and says what is wrong: ${alarm.rule}: ${alarm.message}`);

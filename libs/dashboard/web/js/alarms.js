@@ -4,6 +4,11 @@
 import * as api from './api.js';
 import {$, clear, el, guard, millis, notify, time} from './ui.js';
 
+// An individual's IRI as people read it: its local name (…/prototype/Conveyor3 → Conveyor3).
+function shortName(iri) {
+  return String(iri || '').replace(/^.*[/#]/, '') || String(iri || '');
+}
+
 export class AlarmList {
   constructor(live, session) {
     this.session = session;
@@ -50,10 +55,10 @@ export class AlarmList {
       state}},
     el('header', {},
       el('span', {class: 'rule', text: alarm.rule}),
-      el('span', {class: 'entity', text: alarm.entity}),
+      el('span', {class: 'entity', text: shortName(alarm.entity), title: alarm.entity}),
       el('time', {text: time(alarm.time)}),
       el('span', {class: 'state', text: state})),
-    el('p', {class: 'message', text: alarm.message}),
+    el('p', {class: 'alarm-message', text: alarm.message}),
     el('details', {open: true},
       el('summary', {text: `why: ${(alarm.facts || []).length} facts`}),
       el('ul', {class: 'facts-list'}, (alarm.facts || []).map((f) => el('li', {text: f})))),

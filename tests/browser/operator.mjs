@@ -56,6 +56,18 @@ await scenario(async (browser, opts) => {
     !document.querySelector('#machine').hidden, {}, name);
   await page.waitForSelector('#trend .uplot');
   await page.waitForSelector('#trend[data-points]');
+  // A series with something to zoom into: intervals with samples in the last hour.
+  const series = await page.$$eval('#trend-series option', (options) => options.map((o) => [o.value, o.textContent]));
+  let shown = null;
+  for (const [id, label] of series) {
+    await page.select('#trend-series', id);
+    await page.waitForSelector(`#trend[data-series="${id}"]`);
+    if (Number(await page.$eval('#trend', (t) => t.dataset.points)) >= 2) {
+      shown = label;
+      break;
+    }
+  }
+  check(shown, `the trend of a series of ${name} from the historian: ${shown}`);
   const aggregates = [];
   page.on('request', (r) => { if (/\/aggregate\?/.test(r.url())) aggregates.push(new URL(r.url()).searchParams); });
   const over = await page.$('#trend .u-over');

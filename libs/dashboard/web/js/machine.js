@@ -154,6 +154,7 @@ export class MachinePanel {
     const intervals = await api.aggregate(id, {from: Math.round(this.range.from), to: Math.round(this.range.to),
       points: 400});
     $('#trend').dataset.points = String(intervals.length);
+    $('#trend').dataset.series = id;
     this.chart.setData(intervals.map((a) => millis(a.t)),
       [intervals.map((a) => a.avg ?? null), intervals.map((a) => a.min ?? null), intervals.map((a) => a.max ?? null)]);
   }

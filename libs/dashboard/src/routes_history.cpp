@@ -92,8 +92,9 @@ Response store_error(const Error& e) {
   return web::error_response(503, "the historian: " + e.message);
 }
 
+// The id as text: a 63-bit hash, which a JavaScript number (exact to 2^53) would round to another.
 nlohmann::json series_json(const historian::Series& s) {
-  return {{"id", s.id},
+  return {{"id", std::to_string(s.id)},
           {"server", s.info.server},
           {"browse_path", s.info.browse_path},
           {"node_id", s.info.node_id},

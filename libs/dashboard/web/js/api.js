@@ -57,13 +57,7 @@ export async function request(method, path, body) {
   }
   if (!response.ok) throw await errorOf(response);
   const text = await response.text();
-  return text ? parseJson(text) : null;
-}
-
-// JSON with the "id"s of more than 15 digits kept as texts: the historian's series ids are 64-bit
-// numbers, which a JavaScript number (IEEE 754 double, exact to 2^53) would round to another id.
-export function parseJson(text) {
-  return JSON.parse(text.replace(/("id"\s*:\s*)(-?\d{16,})(?=\s*[,}])/g, '$1"$2"'));
+  return text ? JSON.parse(text) : null;
 }
 
 // A query string of the defined parameters.

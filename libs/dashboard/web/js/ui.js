@@ -80,9 +80,26 @@ export function value(v) {
   return String(v);
 }
 
+// What every page has around its content, made here once: the header's live badge (#live), user
+// (#who) and log-out button (#logout), and the login form (#login) first in <main>.
+function addSessionChrome() {
+  if ($('#login')) return;
+  $('header.bar').append(
+      el('span', {id: 'live', class: 'live down'}, 'offline'),
+      el('span', {id: 'who'}),
+      el('button', {id: 'logout', type: 'button', hidden: true}, 'Log out'));
+  $('main').prepend(el('form', {id: 'login', class: 'card', hidden: true},
+      el('h2', {}, 'Log in'),
+      el('label', {}, 'User ', el('input', {name: 'user', autocomplete: 'username', required: true})),
+      el('label', {}, 'Password ',
+          el('input', {name: 'password', type: 'password', autocomplete: 'current-password', required: true})),
+      el('button', {type: 'submit'}, 'Log in')));
+}
+
 // The session of the page: shows the login form (#login) until someone is logged in, then calls
 // onSession(session); the header's #who and #logout follow the session.
 export async function startSession(onSession) {
+  addSessionChrome();
   const form = $('#login');
   const who = $('#who');
   const out = $('#logout');
@@ -109,6 +126,7 @@ export async function startSession(onSession) {
 
 // The live connection's state in the header (#live).
 export function showLiveState(live) {
+  addSessionChrome();
   const badge = $('#live');
   const set = (up) => {
     badge.textContent = up ? 'live' : 'offline';

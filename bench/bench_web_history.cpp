@@ -4,11 +4,15 @@
 //   store   Store::aggregate of the same range and interval (what the route calls)
 //   sqlite3 the sqlite3 shell running the equivalent GROUP BY (a process per query)
 //   psql    psql running it against the same server (a process per query)
-// The figure to compare is the ratio API / peer (median of REPEATS queries each).
+// The figure to compare is the ratio API / peer (median of REPEATS rounds, each runs all in turn).
 // Usage: bench_web_history [SAMPLES] [POINTS] [REPEATS]   (defaults 1000000, 1000, 5)
+#include <unistd.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -49,16 +53,27 @@ double ms_since(sf::Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(sf::SteadyClock::instance().now() - start).count();
 }
 
-template <typename F>
-double median_ms(int repeats, F run) {
-  std::vector<double> times;
-  for (int i = 0; i < repeats; ++i) {
-    const auto start = sf::SteadyClock::instance().now();
-    run();
-    times.push_back(ms_since(start));
-  }
+double median(std::vector<double> times) {
   std::sort(times.begin(), times.end());
   return times[times.size() / 2];
+}
+
+// Runs each contender once per round, in turn (the VM's load drifts alike for all), and returns
+// the median time of each.
+std::vector<double> median_ms(int rounds, const std::vector<std::function<void()>>& contenders) {
+  std::vector<std::vector<double>> times(contenders.size());
+  for (int i = 0; i < rounds; ++i) {
+    for (std::size_t c = 0; c < contenders.size(); ++c) {
+      const auto start = sf::SteadyClock::instance().now();
+      contenders[c]();
+      times[c].push_back(ms_since(start));
+    }
+  }
+  std::vector<double> medians;
+  for (auto& t : times) {
+    medians.push_back(median(std::move(t)));
+  }
+  return medians;
 }
 
 // The series at `url`: SAMPLES float64 samples kPeriod apart, appended in batches of 10 000.
@@ -122,6 +137,21 @@ struct Row {
   double peer_ms = 0;
 };
 
+// The last answer of the API covers every sample in POINTS points.
+void check(const sf::web::testing::HttpResponse& r, const Options& o) {
+  if (r.result_int() != 200) {
+    fail(fmt::format("GET aggregate: {} {}", r.result_int(), r.body()));
+  }
+  const auto body = nlohmann::json::parse(r.body());
+  std::uint64_t counted = 0;
+  for (const auto& p : body) {
+    counted += p.at("count").get<std::uint64_t>();
+  }
+  if (body.size() != o.points || counted != o.samples) {
+    fail(fmt::format("the API aggregated {} samples into {} points", counted, body.size()));
+  }
+}
+
 // Times the API, the store and the CLI peer on the series at `url`.
 Row measure(const std::string& backend, const std::string& url, hist::SeriesId id, const Options& o,
             const fs::path& dir, const std::string& peer, const std::string& peer_command) {
@@ -156,36 +186,28 @@ Row measure(const std::string& backend, const std::string& url, hist::SeriesId i
       fmt::format("/api/series/{}/aggregate?from={}&to={}&points={}", id, from_ms, to_ms, o.points);
 
   Row row{backend, 0, 0, peer, 0};
-  std::uint64_t counted = 0;
-  std::size_t points = 0;
-  row.api_ms = median_ms(o.repeats, [&] {
-    auto r = sf::web::testing::http_request(*port, http::verb::get, target, {}, "application/json", headers);
-    const auto body = nlohmann::json::parse(r.body());
-    if (r.result_int() != 200) {
-      fail(fmt::format("GET {}: {} {}", target, r.result_int(), r.body()));
-    }
-    points = body.size();
-    counted = 0;
-    for (const auto& p : body) {
-      counted += p.at("count").get<std::uint64_t>();
-    }
-  });
-  if (points != o.points || counted != o.samples) {
-    fail(fmt::format("the API aggregated {} samples into {} points", counted, points));
-  }
+  sf::web::testing::HttpResponse last;
+  const auto api = [&] {
+    last = sf::web::testing::http_request(*port, http::verb::get, target, {}, "application/json", headers);
+  };
   const hist::Micros interval{(to_ms - from_ms) * 1000 / static_cast<std::int64_t>(o.points)};
-  row.store_ms = median_ms(o.repeats, [&] {
+  const auto store = [&] {
     auto rows = (*gateway)->store().aggregate(id, kT0, kT0 + interval * static_cast<long>(o.points), interval,
                                               hist::Aggregate::all);
     if (!rows || rows->size() != o.points) {
       fail("Store::aggregate");
     }
-  });
-  row.peer_ms = median_ms(o.repeats, [&] {
+  };
+  const auto cli = [&] {
     if (std::system(peer_command.c_str()) != 0) {
       fail("peer failed: " + peer_command);
     }
-  });
+  };
+  const auto ms = median_ms(o.repeats, {api, store, cli});
+  row.api_ms = ms[0];
+  row.store_ms = ms[1];
+  row.peer_ms = ms[2];
+  check(last, o);
   (*dashboard)->stop();
   (*gateway)->stop();
   return row;
@@ -216,7 +238,7 @@ int main(int argc, char** argv) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("bench_web_history.{}", ::getpid());
   fs::create_directories(dir);
   write_users(dir / "users.yaml");
-  std::cout << fmt::format("{} samples of one series → {} points, median of {} queries (ms)\n", o.samples,
+  std::cout << fmt::format("{} samples of one series → {} points, median of {} rounds (ms)\n", o.samples,
                            o.points, o.repeats);
   std::cout << fmt::format("{:<10} {:>9} {:>9} {:>6}  {:<8} {:>9} {:>6}\n", "backend", "API", "store",
                            "API/st", "peer", "peer", "API/pr");

@@ -35,7 +35,7 @@ namespace fs = std::filesystem;
 namespace http = boost::beast::http;
 
 // Midnight: the whole series falls in one day (one PostgreSQL partition).
-const hist::Timestamp kT0 = hist::from_micros(1'763'683'200'000'000);
+constexpr hist::Timestamp kT0{hist::Micros{1'763'683'200'000'000}};
 constexpr std::chrono::milliseconds kPeriod{10};  // 1 M samples: 2 h 47 min
 
 struct Options {
@@ -46,7 +46,7 @@ struct Options {
 
 [[noreturn]] void fail(const std::string& what) {
   std::cerr << what << "\n";
-  std::exit(1);
+  std::exit(1);  // NOLINT(concurrency-mt-unsafe): the benchmark ends here, its threads with it
 }
 
 double ms_since(sf::Clock::time_point start) {
@@ -70,6 +70,7 @@ std::vector<double> median_ms(int rounds, const std::vector<std::function<void()
     }
   }
   std::vector<double> medians;
+  medians.reserve(times.size());
   for (auto& t : times) {
     medians.push_back(median(std::move(t)));
   }
@@ -199,7 +200,7 @@ Row measure(const std::string& backend, const std::string& url, hist::SeriesId i
     }
   };
   const auto cli = [&] {
-    if (std::system(peer_command.c_str()) != 0) {
+    if (std::system(peer_command.c_str()) != 0) {  // NOLINT(concurrency-mt-unsafe): one thread runs it
       fail("peer failed: " + peer_command);
     }
   };

@@ -48,7 +48,7 @@ struct Options {
 
 [[noreturn]] void fail(const std::string& what) {
   std::cerr << what << "\n";
-  std::exit(1);
+  std::exit(1);  // NOLINT(concurrency-mt-unsafe): the benchmark ends here, its threads with it
 }
 
 std::string topic(std::size_t n) {

@@ -45,6 +45,8 @@ export async function launch(opts) {
     headless: true,
     // The test runs as root in a container: Chromium's sandbox needs user namespaces it may not have.
     args: ['--no-sandbox', '--disable-dev-shm-usage', '--no-first-run'],
+    // Chromium's start takes longer than puppeteer's 30 s default on a loaded 2-core machine.
+    timeout: WAIT_MS,
   });
 }
 

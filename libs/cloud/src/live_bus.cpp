@@ -29,7 +29,7 @@ LiveBus::Subscription LiveBus::subscribe(Callback on_value, EventCallback on_eve
   return {this, id};
 }
 
-LiveBus::Subscription LiveBus::subscribe_with_current(Callback on_value, EventCallback on_event) {
+LiveBus::Subscription LiveBus::subscribe_with_current(const Callback& on_value, EventCallback on_event) {
   std::vector<Retained> current;
   Subscription subscription;
   {

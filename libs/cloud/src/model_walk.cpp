@@ -44,7 +44,10 @@ Result<std::pair<ua::NodeId, ua::NodeClass>> resolve_browse_path(
   std::size_t start = 1;
   while (start < path.size()) {
     const auto end = std::min(path.find('/', start), path.size());
-    const auto [index, name] = split_segment(path.substr(start, end - start));
+    // Named, not a structured binding: the lambda below uses them.
+    const auto segment = split_segment(path.substr(start, end - start));
+    const std::optional<std::uint16_t> index = segment.first;
+    const std::string_view name = segment.second;
     start = end + 1;
     if (name.empty()) {
       continue;

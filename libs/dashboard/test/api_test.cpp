@@ -182,7 +182,7 @@ struct Rig {
     port = *listening;
   }
 
-  void write_users() {
+  void write_users() const {
     ua::security::UserDatabase users;
     const ua::security::PasswordHashParams cheap{10, 8, 1};  // fast enough for a test's logins
     auto hash = ua::security::hash_password("secret", cheap);
@@ -226,30 +226,30 @@ struct Rig {
 class DashboardApi : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    rig_ = new Rig();  // NOLINT: the suite's, deleted in TearDownTestSuite
-    rig_->start();
+    rig = new Rig();  // NOLINT: the suite's, deleted in TearDownTestSuite
+    rig->start();
   }
   static void TearDownTestSuite() {
-    delete rig_;
-    rig_ = nullptr;
+    delete rig;
+    rig = nullptr;
   }
   void SetUp() override {
-    ASSERT_NE(rig_, nullptr);
-    ASSERT_NE(rig_->port, 0) << "the rig did not start";
+    ASSERT_NE(rig, nullptr);
+    ASSERT_NE(rig->port, 0) << "the rig did not start";
   }
   static User as(const std::string& name) {
-    User u(rig_->port);
+    User u(rig->port);
     EXPECT_EQ(u.login(name).status, 200) << name;
     return u;
   }
-  static User anonymous() { return User(rig_->port); }
+  static User anonymous() { return User(rig->port); }
 
-  static Rig* rig_;
+  static Rig* rig;
 };
-Rig* DashboardApi::rig_ = nullptr;
+Rig* DashboardApi::rig = nullptr;
 
 TEST_F(DashboardApi, SessionsLogInCarryACsrfTokenAndLogOut) {
-  User u(rig_->port);
+  User u(rig->port);
   EXPECT_EQ(u.login("alice", "wrong").status, 401);
   EXPECT_EQ(u.login("nobody").status, 401);
   EXPECT_EQ(u.login("plc").status, 403);  // a user of the OPC UA servers without a web role
@@ -364,7 +364,7 @@ TEST_F(DashboardApi, InvalidOrdersAreRefusedAndNothingIsStored) {
     EXPECT_NE(r.body.at("error").get<std::string>().find(says), std::string::npos) << r.body.at("error");
   }
   // Over the body limit; without the CSRF token; without a session.
-  EXPECT_EQ(carol.post("/api/orders", std::string(200 * 1024, ' ')).status, 413);
+  EXPECT_EQ(carol.post("/api/orders", std::string(std::size_t{200} * 1024, ' ')).status, 413);
   EXPECT_EQ(
       carol.request(http::verb::post, "/api/orders", R"({"box": "small-box", "candy": {"gummy": 1}})", false)
           .status,
@@ -425,7 +425,7 @@ TEST_F(DashboardApi, MachinesShowTheirStateAndTakeCommandsFromOperatorsOnly) {
   EXPECT_TRUE(m.body.at("values").contains("PackML/Admin/StateCurrentTime")) << m.body.at("values");
   auto all = victor.get("/api/machines");
   ASSERT_EQ(all.status, 200);
-  EXPECT_EQ(all.body.size(), machines_of(rig_->layout).size());
+  EXPECT_EQ(all.body.size(), machines_of(rig->layout).size());
   EXPECT_EQ(victor.get("/api/machines/no-such-machine").status, 404);
 
   // Reset and Start take the machine to Execute (OPC 30050 §6.3.8); a viewer may not.
@@ -496,7 +496,7 @@ TEST_F(DashboardApi, AlarmsComeFromTheKnowledgeLoopWithTheirExplanation) {
   u.series = &fault;
   u.sample.source_time = std::chrono::time_point_cast<historian::Micros>(std::chrono::system_clock::now());
   u.sample.value = std::string("gripper lost vacuum");
-  rig_->gateway->live().publish(u);
+  rig->gateway->live().publish(u);
   Reply alarms;
   ASSERT_TRUE(eventually([&] {
     alarms = victor.get("/api/alarms");
@@ -526,7 +526,7 @@ TEST_F(DashboardApi, AlarmsComeFromTheKnowledgeLoopWithTheirExplanation) {
 
   u.sample.source_time += 1s;
   u.sample.value = std::string();
-  rig_->gateway->live().publish(u);
+  rig->gateway->live().publish(u);
   ASSERT_TRUE(eventually([&] {
     auto now = victor.get("/api/alarms");
     return std::none_of(now.body.begin(), now.body.end(),
@@ -577,7 +577,7 @@ TEST_F(DashboardApi, TheOpenApiDescriptionNamesEveryRoute) {
     }
   }
   std::set<std::pair<std::string, std::string>> served;
-  for (const auto& r : rig_->dashboard->routes()) {
+  for (const auto& r : rig->dashboard->routes()) {
     served.insert(r);
   }
   served.emplace("GET", "/api/live");  // the WebSocket endpoint, described in the info text
@@ -593,7 +593,7 @@ TEST_F(DashboardApi, TheOpenApiDescriptionNamesEveryRoute) {
 
 TEST_F(DashboardApi, LiveTopicsNeedASessionAndConsumersSeeTheirOwnOrdersOnly) {
   auto refused = web::testing::raw_exchange(
-      rig_->port,
+      rig->port,
       "GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
       "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
   EXPECT_EQ(web::testing::raw_status(refused), 401) << refused;
@@ -605,7 +605,7 @@ TEST_F(DashboardApi, LiveTopicsNeedASessionAndConsumersSeeTheirOwnOrdersOnly) {
   }
   ASSERT_EQ(placed.status, 201);
   const std::string id = placed.body.at("id");
-  web::testing::LiveClient live(rig_->port, 0, alice.cookie());
+  web::testing::LiveClient live(rig->port, 0, alice.cookie());
   live.send(json{{"subscribe", {"order/" + id, "machines", "order/someone-else"}}}.dump());
   EXPECT_EQ(live.receive(), (json{{"error", "not allowed"}, {"topics", {"machines", "order/someone-else"}}}));
   EXPECT_EQ(live.receive(), (json{{"subscribed", {"order/" + id}}}));
@@ -614,7 +614,7 @@ TEST_F(DashboardApi, LiveTopicsNeedASessionAndConsumersSeeTheirOwnOrdersOnly) {
   EXPECT_EQ(update.at("value").at("id"), id);
 
   auto victor = as("victor");
-  web::testing::LiveClient watcher(rig_->port, 0, victor.cookie());
+  web::testing::LiveClient watcher(rig->port, 0, victor.cookie());
   watcher.send(R"({"subscribe": ["machines"]})");
   EXPECT_EQ(watcher.receive(), (json{{"subscribed", {"machines"}}}));
   auto olga = as("olga");

@@ -54,7 +54,8 @@ class LiveBus {
   // updates, on the calling thread): a subscriber that keeps current values starts with them
   // instead of waiting for each to change (retained values, as a broker keeps them). Live
   // updates may already come meanwhile; a replayed one may then be older.
-  [[nodiscard]] Subscription subscribe_with_current(Callback on_value, EventCallback on_event = nullptr);
+  [[nodiscard]] Subscription subscribe_with_current(const Callback& on_value,
+                                                    EventCallback on_event = nullptr);
   void publish(const LiveUpdate& update);
   void publish(const historian::Event& event);
   [[nodiscard]] std::size_t subscribers() const;

@@ -71,6 +71,10 @@ web::Handler guarded(Context& c, Role role, F f) {
   };
 }
 
+// An integer query parameter in [lo, hi], `fallback` when absent; the error names the range.
+Result<std::int64_t> int_param(const web::Request& r, const std::string& name, std::int64_t fallback,
+                               std::int64_t lo, std::int64_t hi);
+
 // An alarm's historian event (cloud::alarm_event) as the API shows alarms; nullopt when it is not one.
 std::optional<nlohmann::json> alarm_of(const historian::Event& e);
 

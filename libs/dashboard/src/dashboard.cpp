@@ -1,6 +1,8 @@
 // Dashboard (dashboard.hpp): the books fed by the live bus, the routes, the live topics.
 #include "sf/dashboard/dashboard.hpp"
 
+#include <charconv>
+
 #include <fmt/format.h>
 
 #include "context.hpp"
@@ -46,6 +48,23 @@ void Context::publish(const std::string& topic, const nlohmann::json& value) con
   if (server_ != nullptr) {
     server_->publish(topic, value);
   }
+}
+
+// An integer query parameter in [lo, hi], `fallback` when absent.
+Result<std::int64_t> int_param(const web::Request& r, const std::string& name, std::int64_t fallback,
+                               std::int64_t lo, std::int64_t hi) {
+  const auto it = r.query_params.find(name);
+  if (it == r.query_params.end()) {
+    return fallback;
+  }
+  std::int64_t n = 0;
+  const auto& text = it->second;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (error != std::errc{} || end != text.data() + text.size() || n < lo || n > hi) {
+    return make_error(Errc::invalid_argument,
+                      fmt::format("{} must be a whole number from {} to {}", name, lo, hi));
+  }
+  return n;
 }
 
 std::optional<nlohmann::json> alarm_of(const historian::Event& e) {

@@ -19,23 +19,6 @@ using web::Response;
 constexpr historian::Micros kDefaultRange = std::chrono::hours(1);
 constexpr historian::Micros kLongestRange = std::chrono::hours(24 * 366);
 
-// An integer query parameter in [lo, hi], `fallback` when absent.
-Result<std::int64_t> int_param(const Request& r, const std::string& name, std::int64_t fallback,
-                               std::int64_t lo, std::int64_t hi) {
-  const auto it = r.query_params.find(name);
-  if (it == r.query_params.end()) {
-    return fallback;
-  }
-  std::int64_t n = 0;
-  const auto& text = it->second;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
-  if (error != std::errc{} || end != text.data() + text.size() || n < lo || n > hi) {
-    return make_error(Errc::invalid_argument,
-                      fmt::format("{} must be a whole number from {} to {}", name, lo, hi));
-  }
-  return n;
-}
-
 // from/to of the query (openapi.yaml From, To): to defaults to now, from to an hour before it.
 Result<TimeRange> range_of(const Context& c, const Request& r) {
   const auto now = c.now();

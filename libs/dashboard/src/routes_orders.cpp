@@ -85,17 +85,9 @@ std::optional<OrderView> visible(Context& c, const std::string& id, const Sessio
 }
 
 Response list(Context& c, const Request& r, const Session& s) {
-  std::size_t limit = 100;
-  if (auto it = r.query_params.find("limit"); it != r.query_params.end()) {
-    try {
-      const long n = std::stol(it->second);
-      if (n < 1 || n > static_cast<long>(kMaxLimit)) {
-        throw std::out_of_range("limit");
-      }
-      limit = static_cast<std::size_t>(n);
-    } catch (const std::exception&) {
-      return web::error_response(400, fmt::format("limit must be 1 to {}", kMaxLimit));
-    }
+  const auto limit = int_param(r, "limit", 100, 1, static_cast<std::int64_t>(kMaxLimit));
+  if (!limit) {
+    return web::error_response(400, limit.error().message);
   }
   std::optional<std::string> state;
   if (auto it = r.query_params.find("state"); it != r.query_params.end()) {
@@ -103,7 +95,7 @@ Response list(Context& c, const Request& r, const Session& s) {
   }
   const auto owner = s.role < Role::viewer ? std::optional(s.user) : std::nullopt;
   nlohmann::json out = nlohmann::json::array();
-  for (const auto& o : c.orders.list(owner, state, limit)) {
+  for (const auto& o : c.orders.list(owner, state, static_cast<std::size_t>(*limit))) {
     out.push_back(order_json(o));
   }
   return web::json_response(out);

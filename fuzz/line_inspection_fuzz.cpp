@@ -10,7 +10,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);  // NOLINT
   if (auto step = sf::line::parse_order_step(text); step) {
-    if (sf::line::parse_order_step(sf::line::format_order_step(*step)) != step) {
+    auto again = sf::line::parse_order_step(sf::line::format_order_step(*step));
+    if (!again || *again != *step) {
       __builtin_trap();
     }
   } else if (step.error().message.empty()) {

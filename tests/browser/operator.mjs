@@ -48,7 +48,22 @@ await scenario(async (browser, opts) => {
   check(listed.every((m) => drawn.includes(m)), `the schematic draws every machine and conveyor: ${drawn.join(', ')}`);
   await page.waitForSelector(`#schematic [data-machine="${name}"][data-state=Execute]`);
   await page.waitForSelector('#oee-table tbody tr');
+
+  // An order in work: its box drawn on the schematic where its steps put it, on a station of the
+  // layout, and gone once the order is done.
+  const placed = await pageFetch(page, 'POST', '/api/orders', {body: {box: 'small-box', candy: {gummy: 1}}});
+  check(placed.status === 201, `the operator places an order to watch its box: ${JSON.stringify(placed.body)}`);
+  const box = `#schematic rect.box[data-order="${placed.body.id}"]`;
+  await page.waitForSelector(box, {timeout: 600000});
+  const stations = (await pageFetch(page, 'GET', '/api/layout')).body.belts
+    .flatMap((b) => (b.stations || []).map((st) => `${b.name}/${st.name}`));
+  const at = await page.$eval(box, (r) => r.dataset.at);
+  check(stations.includes(at), `the box of ${placed.body.id} is drawn at a station of the layout: ${at}`);
   await screenshot(page, opts.screenshots, 'operator-line');
+  await page.waitForSelector(box, {hidden: true, timeout: 900000});
+  const done = (await pageFetch(page, 'GET', `/api/orders/${placed.body.id}`)).body;
+  check(['done', 'failed'].includes(done.state) && !done.place,
+    `the box leaves the schematic when its order ends (${done.state})`);
 
   // The machine in detail, with its trend.
   await page.click(`#machines button[data-select="${name}"]`);

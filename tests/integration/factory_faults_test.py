@@ -31,7 +31,7 @@ from collections import Counter
 from line_harness import (CONTROLLERS, EXECUTE, check_inspections, free_port_range, history_values, knowledge_alarms,
                           node_name,
                           order_counter, order_events, plant_events, plant_fault, plant_snapshot, write_cloud_config)
-from sftest import Background, binary, check, fail, json_events, run, wait_for
+from sftest import Background, binary, check, fail, json_events, keep_on_failure, run, wait_for
 
 PARTITION = f"factory-faults-{uuid.uuid4().hex[:8]}"
 # Loads of several candies (a smart-robot job with several picks), toffee (only the TOSHIBA, on
@@ -197,6 +197,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="factory_faults_") as tmp:
         line = Line(tmp)
         rc = None
+        passed = False
         try:
             wait_for(lambda: json_events(line.proc.output(), "ready") or not line.proc.alive(), 180, "every process up")
             if not line.proc.alive():
@@ -248,6 +249,7 @@ def main():
             states = history_values(tmp, "scara-robot-1", "/Objects/Machines/ScaraRobot1/PackML/Status/StateCurrent")
             restart = states.index(STOPPED) if STOPPED in states else len(states)
             check(EXECUTE in states[restart:], f"the historian holds the restarted SCARA Robot 1's states: {states}")
+            passed = True
         finally:
             if line.proc.alive():
                 line.proc.proc.send_signal(signal.SIGINT)
@@ -261,6 +263,8 @@ def main():
                 if os.path.exists(log):
                     tail = [l for l in open(log, errors="replace").readlines() if not l.startswith('{"')][-15:]
                     print(f"--- {name}.log (tail)\n" + "".join(tail), flush=True)
+            if not passed or rc != 0:
+                keep_on_failure("factory_faults", tmp)
         check(rc == 0, f"SIGINT stops the line with exit 0 (exit {rc})")
 
 

@@ -24,6 +24,16 @@ def binary():
     return path
 
 
+def keep_on_failure(name, directory):
+    """Copies a failed test's working directory (its processes' logs and events) next to the
+    binary under test-artifacts/NAME, so a failure in CI can be read afterwards."""
+    target = os.path.join(os.path.dirname(os.path.abspath(binary())), "..", "test-artifacts", name)
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(directory, target, ignore=shutil.ignore_patterns("*.sock", "*.db-wal", "*.db-shm"),
+                    ignore_dangling_symlinks=True, dirs_exist_ok=True)
+    print(f"note: the run is kept in {os.path.normpath(target)}", flush=True)
+
+
 def source_dir():
     path = os.environ.get("SF_SOURCE_DIR") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     return path

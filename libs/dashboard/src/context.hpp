@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -48,11 +49,20 @@ struct Context {
   [[nodiscard]] historian::Timestamp now() const;
   // The gateway server of the order service (the one whose series are below /Objects/OrderService).
   [[nodiscard]] std::optional<std::string> order_server();
+  // A series of the historian by its id: Errc::not_found when the store has none. The list is
+  // read from the store again only when an id or the order service is not in the one kept (ids
+  // never change; series are only added).
+  [[nodiscard]] Result<historian::Series> series(historian::SeriesId id);
   void publish(const std::string& topic, const nlohmann::json& value) const;
 
  private:
+  Status reload_series();
+
   mutable std::mutex server_mutex_;
   web::HttpServer* server_ = nullptr;
+  std::mutex series_mutex_;
+  std::map<historian::SeriesId, historian::Series> series_;
+  std::optional<std::string> order_server_;
 };
 
 // The request's session when it has one of at least `role`; writes (not GET/HEAD) must carry the
@@ -75,6 +85,8 @@ web::Handler guarded(Context& c, Role role, F f) {
 Result<std::int64_t> int_param(const web::Request& r, const std::string& name, std::int64_t fallback,
                                std::int64_t lo, std::int64_t hi);
 
+// An alarm as the API shows it.
+nlohmann::json alarm_json(const cloud::Alarm& a);
 // An alarm's historian event (cloud::alarm_event) as the API shows alarms; nullopt when it is not one.
 std::optional<nlohmann::json> alarm_of(const historian::Event& e);
 

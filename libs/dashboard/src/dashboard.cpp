@@ -25,17 +25,37 @@ historian::Timestamp Context::now() const {
   return std::chrono::time_point_cast<historian::Micros>(clock.utc_now());
 }
 
+Status Context::reload_series() {
+  auto all = gateway.store().list_series();
+  if (!all) {
+    return all.error();
+  }
+  for (auto& s : *all) {
+    if (!order_server_ && s.info.browse_path.starts_with(kOrderServicePath)) {
+      order_server_ = s.info.server;
+    }
+    series_.insert_or_assign(s.id, std::move(s));
+  }
+  return {};
+}
+
 std::optional<std::string> Context::order_server() {
-  auto series = gateway.store().list_series();
-  if (!series) {
+  std::lock_guard lock(series_mutex_);
+  if (!order_server_ && !reload_series()) {
     return std::nullopt;
   }
-  for (const auto& s : *series) {
-    if (s.info.browse_path.starts_with(kOrderServicePath)) {
-      return s.info.server;
-    }
+  return order_server_;
+}
+
+Result<historian::Series> Context::series(historian::SeriesId id) {
+  std::lock_guard lock(series_mutex_);
+  if (!series_.contains(id)) {
+    SF_TRY(reload_series());
   }
-  return std::nullopt;
+  if (auto it = series_.find(id); it != series_.end()) {
+    return it->second;
+  }
+  return make_error(Errc::not_found, fmt::format("no series {}", id));
 }
 
 void Context::set_server(web::HttpServer* s) {
@@ -67,28 +87,48 @@ Result<std::int64_t> int_param(const web::Request& r, const std::string& name, s
   return n;
 }
 
+nlohmann::json alarm_json(const cloud::Alarm& a) {
+  return {{"id", a.id},
+          {"change", to_string(a.change)},
+          {"rule", a.rule},
+          {"entity", a.entity},
+          {"message", a.message},
+          {"facts", a.facts},
+          {"active", a.active},
+          {"acked", a.acked},
+          {"acked_by", a.acked_by},
+          {"ack_comment", a.ack_comment},
+          {"time", time_text(a.time)}};
+}
+
 std::optional<nlohmann::json> alarm_of(const historian::Event& e) {
   auto fields = nlohmann::json::parse(e.fields, nullptr, false);
   if (fields.is_discarded() || !fields.is_object()) {
     return std::nullopt;
   }
-  // The message of a change other than the raise starts with it ("cleared: ...").
+  cloud::Alarm a;
   const std::string change = fields.value("change", "raised");
-  std::string message = e.message;
-  if (change != "raised" && message.starts_with(change + ": ")) {
-    message.erase(0, change.size() + 2);
+  for (const auto known :
+       {cloud::AlarmChange::raised, cloud::AlarmChange::cleared, cloud::AlarmChange::acknowledged}) {
+    if (cloud::to_string(known) == change) {
+      a.change = known;
+    }
   }
-  return nlohmann::json{{"id", fields.value("id", "")},
-                        {"change", change},
-                        {"rule", fields.value("rule", "")},
-                        {"entity", e.source_node},
-                        {"message", message},
-                        {"facts", fields.value("facts", nlohmann::json::array())},
-                        {"active", fields.value("active", false)},
-                        {"acked", fields.value("acked", false)},
-                        {"acked_by", fields.value("acked_by", "")},
-                        {"ack_comment", fields.value("ack_comment", "")},
-                        {"time", time_text(e.time)}};
+  // The message of a change other than the raise starts with it ("cleared: ...").
+  a.message = e.message;
+  if (change != "raised" && a.message.starts_with(change + ": ")) {
+    a.message.erase(0, change.size() + 2);
+  }
+  a.id = fields.value("id", "");
+  a.rule = fields.value("rule", "");
+  a.entity = e.source_node;
+  a.facts = fields.value("facts", std::vector<std::string>{});
+  a.active = fields.value("active", false);
+  a.acked = fields.value("acked", false);
+  a.acked_by = fields.value("acked_by", "");
+  a.ack_comment = fields.value("ack_comment", "");
+  a.time = e.time;
+  return alarm_json(a);
 }
 
 std::variant<Session, web::Response> authorize(Context& c, const web::Request& request, Role role) {

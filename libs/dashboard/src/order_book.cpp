@@ -4,6 +4,7 @@
 #include "sf/dashboard/order_book.hpp"
 
 #include <algorithm>
+#include <charconv>
 
 #include "sf/core/text.hpp"
 #include "sf/factory/order.hpp"
@@ -42,6 +43,70 @@ void read_content(OrderView& o, std::string_view detail) {
   }
   o.box = std::string(detail.substr(0, space));
   o.candy = std::move(candy);
+}
+
+// "box 12 at conveyor1/upload" (uploaded), "box 12 conveyor1/upload → conveyor3/toshiba"
+// (transported): the box number and the last place named.
+std::optional<std::pair<int, std::string>> box_and_place(std::string_view detail) {
+  const auto words = split(detail, ' ');
+  if (words.size() < 3 || words[0] != "box") {
+    return std::nullopt;
+  }
+  int number = 0;
+  const auto digits = words[1];
+  if (auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
+      ec != std::errc{} || end != digits.data() + digits.size() || words.back().empty()) {
+    return std::nullopt;
+  }
+  return std::pair{number, std::string(words.back())};
+}
+
+// "A -c1-> B -c2-> C (1.234 s)" (routed): the legs after A; nullopt if it does not read so.
+std::optional<std::vector<RouteLeg>> route_legs(std::string_view detail) {
+  if (const auto paren = detail.rfind(" ("); paren != std::string_view::npos) {
+    detail = detail.substr(0, paren);
+  }
+  const auto words = split(detail, ' ');
+  if (words.empty() || words.size() % 2 == 0) {
+    return std::nullopt;
+  }
+  std::vector<RouteLeg> legs;
+  for (std::size_t i = 1; i + 1 < words.size(); i += 2) {
+    const auto arrow = words[i];
+    if (arrow.size() < 4 || !arrow.starts_with('-') || !arrow.ends_with("->")) {
+      return std::nullopt;
+    }
+    legs.push_back({std::string(arrow.substr(1, arrow.size() - 3)), std::string(words[i + 1])});
+  }
+  return legs;
+}
+
+// The box's place after a step of its order (the order's state already updated).
+void move_box(OrderView& o, const line::OrderStep& step) {
+  const std::string& what = step.what;
+  if (what == "started" || o.state != "in work") {
+    o.place.reset();  // a new box begins, or the order's box left the line
+  } else if (what == "uploaded") {
+    if (auto bp = box_and_place(step.detail)) {
+      o.place = BoxPlace{bp->first, bp->second, {}};
+    }
+  } else if (!o.place) {
+    return;
+  } else if (what == "routed") {
+    if (auto legs = route_legs(step.detail)) {
+      o.place->route = std::move(*legs);
+    }
+  } else if (what == "transported") {
+    if (auto bp = box_and_place(step.detail)) {
+      auto& route = o.place->route;
+      const auto reached =
+          std::find_if(route.begin(), route.end(), [&](const RouteLeg& leg) { return leg.to == bp->second; });
+      route.erase(route.begin(), reached == route.end() ? route.end() : std::next(reached));
+      o.place->at = bp->second;
+    }
+  } else if (what == "retry") {
+    o.place->route.clear();  // routed again from where it stands
+  }
 }
 
 }  // namespace
@@ -91,6 +156,7 @@ std::optional<std::string> OrderBook::on_event(const historian::Event& event) {
   o.state = "submitted";
   o.attempts = 0;
   o.machines.clear();
+  o.place.reset();
   for (const auto& s : o.steps) {
     apply(o, s);
   }
@@ -113,6 +179,7 @@ void OrderBook::apply(OrderView& o, const OrderStepView& s) {
       std::find(o.machines.begin(), o.machines.end(), s.step.machine) == o.machines.end()) {
     o.machines.push_back(s.step.machine);
   }
+  move_box(o, s.step);
 }
 
 std::optional<std::string> OrderBook::on_inspection(std::string_view text, historian::Timestamp time) {

@@ -53,16 +53,7 @@ Result<historian::Series> series_of(Context& c, const Request& r) {
   if (error != std::errc{} || end != text.data() + text.size()) {
     return make_error(Errc::invalid_argument, fmt::format("series id '{}' is not a number", text));
   }
-  auto all = c.gateway.store().list_series();
-  if (!all) {
-    return all.error();
-  }
-  for (auto& s : *all) {
-    if (s.id == id) {
-      return std::move(s);
-    }
-  }
-  return make_error(Errc::not_found, fmt::format("no series {}", id));
+  return c.series(id);
 }
 
 Response store_error(const Error& e) {
@@ -144,20 +135,6 @@ Response aggregate(Context& c, const Request& r) {
                    {"count", row.count.value_or(0)}});
   }
   return web::json_response(out);
-}
-
-nlohmann::json alarm_json(const cloud::Alarm& a) {
-  return {{"id", a.id},
-          {"change", to_string(a.change)},
-          {"rule", a.rule},
-          {"entity", a.entity},
-          {"message", a.message},
-          {"facts", a.facts},
-          {"active", a.active},
-          {"acked", a.acked},
-          {"acked_by", a.acked_by},
-          {"ack_comment", a.ack_comment},
-          {"time", time_text(a.time)}};
 }
 
 // An operator's acknowledgement (OPC 10000-9 §5.7.3 Acknowledge): the knowledge loop records it

@@ -184,6 +184,13 @@ nlohmann::json order_json(const OrderView& o) {
                      {"machines", o.machines},
                      {"steps", std::move(steps)},
                      {"updated", time_text(o.updated)}};
+  if (o.place) {
+    nlohmann::json route = nlohmann::json::array();
+    for (const auto& leg : o.place->route) {
+      route.push_back({{"conveyor", leg.conveyor}, {"to", leg.to}});
+    }
+    out["place"] = {{"box", o.place->box}, {"at", o.place->at}, {"route", std::move(route)}};
+  }
   if (o.inspection) {
     const auto& i = *o.inspection;
     out["inspection"] = {{"box", i.box},           {"ordered", i.ordered}, {"counted", i.counted},

@@ -79,6 +79,24 @@ async function openDesk(session) {
   live.on('open', reload);
   await reload();
 
+  // The boxes on the belts and stations: every order in work with its box's place.
+  const inWork = new Map();
+  const drawBoxes = () => schematic.boxes([...inWork.values()]);
+  const followOrder = (order) => {
+    if (!order || !order.id) return;
+    if (order.state === 'in work' && order.place) inWork.set(order.id, order);
+    else inWork.delete(order.id);
+    drawBoxes();
+  };
+  live.subscribe('orders', followOrder);
+  const reloadBoxes = guard(async () => {
+    inWork.clear();
+    for (const order of await api.orders({state: 'in work', limit: 200})) followOrder(order);
+    drawBoxes();
+  });
+  live.on('open', reloadBoxes);
+  await reloadBoxes();
+
   const alarms = new AlarmList(live, session);
   const oee = new OeePanel();
   const negotiation = new NegotiationPanel();

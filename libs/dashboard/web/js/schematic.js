@@ -63,7 +63,24 @@ export function normalizeLayout(raw) {
   add(raw.downloader, 'downloader', -0.4);
   // Transfers below their belt, robots above it.
   for (const m of raw.machines || []) add(m, 'machine', ['uploader', 'downloader'].includes(m.kind) ? -0.4 : 0.4);
-  return {belts, machines};
+  return {belts, machines, stations: stationAt};
+}
+
+const BOX = 0.16;
+
+// Where a box is drawn: at its place, or a third of the way to the next stop of its route while
+// a conveyor carries it there (the steps tell where it goes, not how far it got).
+function boxPoint(stations, place) {
+  const at = stations.get(place.at);
+  if (!at) return null;
+  const next = place.route && place.route.length ? stations.get(place.route[0].to) : null;
+  return next ? [at[0] + (next[0] - at[0]) / 3, at[1] + (next[1] - at[1]) / 3] : at;
+}
+
+function boxTitle(order) {
+  const p = order.place;
+  const next = p.route && p.route.length ? `, next on ${p.route[0].conveyor} to ${p.route[0].to}` : '';
+  return `box ${p.box} of order ${order.id} at ${p.at}${next}`;
 }
 
 function bounds(layout) {
@@ -118,8 +135,29 @@ export function drawSchematic(container, rawLayout, onSelect) {
     svg.append(g);
     nodes.set(m.name, g);
   }
+  const boxes = el('g', {class: 'boxes'});
+  svg.append(boxes);
   container.replaceChildren(svg);
   return {
+    // Draws the boxes of the orders in work (each order with its `place`); several at one spot
+    // side by side.
+    boxes(orders) {
+      const taken = new Map();
+      const marks = [];
+      for (const order of orders) {
+        if (!order.place) continue;
+        const point = boxPoint(layout.stations, order.place);
+        if (!point) continue;
+        const key = point.join(',');
+        const n = taken.get(key) || 0;
+        taken.set(key, n + 1);
+        const moving = !!(order.place.route && order.place.route.length);
+        marks.push(el('rect', {class: 'box', x: point[0] - BOX / 2 + n * BOX * 1.2, y: -point[1] - BOX / 2,
+          width: BOX, height: BOX, rx: 0.02, dataset: {order: order.id, box: String(order.place.box), at: order.place.at,
+            moving: String(moving)}}, el('title', {text: boxTitle(order)})));
+      }
+      boxes.replaceChildren(...marks);
+    },
     update(machine) {
       const g = nodes.get(machine.name);
       if (!g) return;

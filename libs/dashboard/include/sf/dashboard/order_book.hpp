@@ -25,6 +25,21 @@ struct OrderStepView {
   line::OrderStep step;
 };
 
+// Where an order's box is, as its steps tell (the operator's schematic draws it): the place
+// ("belt/station") it was put or brought to last and the legs of its route not yet travelled,
+// the first of them the conveyor that carries it next. From "uploaded" ("box N at P"), "routed"
+// (Route::describe: "A -c1-> B -c2-> C (t s)") and "transported" ("box N A → B").
+struct RouteLeg {
+  std::string conveyor;
+  std::string to;
+  friend bool operator==(const RouteLeg&, const RouteLeg&) = default;
+};
+struct BoxPlace {
+  int box = 0;
+  std::string at;
+  std::vector<RouteLeg> route;
+};
+
 struct OrderView {
   std::string id;
   std::string owner;  // who placed it through the API; empty for orders from a file
@@ -35,6 +50,7 @@ struct OrderView {
   int attempts = 0;                   // boxes started for it
   std::vector<std::string> machines;  // that worked on it, first time first
   std::optional<line::InspectionRecord> inspection;
+  std::optional<BoxPlace> place;  // while in work, once its box is on the line
   std::vector<OrderStepView> steps;
   historian::Timestamp updated{};
 };

@@ -53,14 +53,14 @@ await scenario(async (browser, opts) => {
   // layout, and gone once the order is done.
   const placed = await pageFetch(page, 'POST', '/api/orders', {body: {box: 'small-box', candy: {gummy: 1}}});
   check(placed.status === 201, `the operator places an order to watch its box: ${JSON.stringify(placed.body)}`);
-  const box = `#schematic rect.box[data-order="${placed.body.id}"]`;
-  await page.waitForSelector(box, {timeout: 600000});
+  const boxMark = `#schematic rect.box[data-order="${placed.body.id}"]`;
+  await page.waitForSelector(boxMark, {timeout: 600000});
   const stations = (await pageFetch(page, 'GET', '/api/layout')).body.belts
     .flatMap((b) => (b.stations || []).map((st) => `${b.name}/${st.name}`));
-  const at = await page.$eval(box, (r) => r.dataset.at);
+  const at = await page.$eval(boxMark, (r) => r.dataset.at);
   check(stations.includes(at), `the box of ${placed.body.id} is drawn at a station of the layout: ${at}`);
   await screenshot(page, opts.screenshots, 'operator-line');
-  await page.waitForSelector(box, {hidden: true, timeout: 900000});
+  await page.waitForSelector(boxMark, {hidden: true, timeout: 900000});
   const done = (await pageFetch(page, 'GET', `/api/orders/${placed.body.id}`)).body;
   check(['done', 'failed'].includes(done.state) && !done.place,
     `the box leaves the schematic when its order ends (${done.state})`);

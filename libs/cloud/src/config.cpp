@@ -61,8 +61,14 @@ Status parse_subscription_settings(const Node& node, ServerConfig& out) {
   SF_TRY(node.read("sampling_interval_ms", out.sampling_interval_ms));
   SF_TRY(node.read("queue_size", out.queue_size));
   SF_TRY(node.read("events", out.events));
-  if (out.publishing_interval_ms <= 0 || out.sampling_interval_ms < 0 || out.queue_size == 0) {
-    return node.error("publishing_interval_ms > 0, sampling_interval_ms >= 0 and queue_size > 0 are needed");
+  auto rediscover = out.rediscover.count();
+  SF_TRY(node.read("rediscover_s", rediscover));
+  out.rediscover = std::chrono::seconds(rediscover);
+  if (out.publishing_interval_ms <= 0 || out.sampling_interval_ms < 0 || out.queue_size == 0 ||
+      rediscover < 0) {
+    return node.error(
+        "publishing_interval_ms > 0, sampling_interval_ms >= 0, queue_size > 0 and rediscover_s >= 0 are "
+        "needed");
   }
   SF_TRY(parse_connection_security(node, out.security));
   if (node.has("subscribe")) {
@@ -96,9 +102,9 @@ Status check_url(const Node& node, const std::string& url) {
 }
 
 Result<ServerConfig> parse_server(const Node& node) {
-  SF_TRY(
-      node.only_keys({"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size", "events",
-                      "subscribe", "security", "user", "password_file", "user_certificate", "user_key"}));
+  SF_TRY(node.only_keys({"name", "url", "publishing_interval_ms", "sampling_interval_ms", "queue_size",
+                         "events", "rediscover_s", "subscribe", "security", "user", "password_file",
+                         "user_certificate", "user_key"}));
   ServerConfig server;
   auto name = node.get<std::string>("name");
   auto url = node.get<std::string>("url");
@@ -153,8 +159,8 @@ Status parse_aggregating(const Node& node, AggregatingServerConfig& out) {
 
 Result<DiscoveryConfig> parse_discovery(const Node& node) {
   SF_TRY(node.only_keys({"url", "interval_s", "publishing_interval_ms", "sampling_interval_ms", "queue_size",
-                         "events", "subscribe", "security", "user", "password_file", "user_certificate",
-                         "user_key"}));
+                         "events", "rediscover_s", "subscribe", "security", "user", "password_file",
+                         "user_certificate", "user_key"}));
   DiscoveryConfig discovery;
   auto interval = discovery.interval.count();
   SF_TRY(node.read("interval_s", interval));

@@ -157,12 +157,22 @@ void ServerLink::setup() {
     const Status subscribed = subscribe_all();
     if (subscribed) {
       set_phase("subscribed");
+      rediscover();
       return;
     }
-    // A connection lost during discovery: start over (nothing was subscribed yet).
+    // A connection lost during discovery: start over with a new subscription. The states of
+    // items made so far are kept aside, not freed: a late notification may still reach one.
     log::get("cloud")->warn("{}: setting up failed: {}", config_.name, subscribed.error().message);
     set_phase("connecting", subscribed.error().message);
     client_->disconnect();
+    for (auto& [key, state] : series_) {
+      retired_.push_back(std::move(state));
+    }
+    series_.clear();
+    series_count_ = 0;
+    subscription_.reset();
+    events_subscribed_ = false;
+    item_warnings_.clear();
     std::unique_lock lock(mutex_);
     if (stopping_ || stop_wait_.wait_for(lock, 1s, [this] { return stopping_; })) {
       return;
@@ -170,8 +180,53 @@ void ServerLink::setup() {
   }
 }
 
+void ServerLink::rediscover() {
+  if (config_.rediscover.count() <= 0) {
+    return;
+  }
+  while (true) {
+    {
+      std::unique_lock lock(mutex_);
+      if (stop_wait_.wait_for(lock, config_.rediscover, [this] { return stopping_; })) {
+        return;
+      }
+    }
+    if (static_cast<ua::ClientState>(client_state_.load()) != ua::ClientState::Connected) {
+      continue;  // the client's reconnect is at work; its items come back by themselves
+    }
+    auto added = subscribe_new();
+    if (!added) {
+      log::get("cloud")->debug("{}: discovering again failed: {}", config_.name, added.error().message);
+      continue;
+    }
+    if (!added->empty()) {
+      log::get("cloud")->info("{}: {} more series subscribed (added to the server's model)", config_.name,
+                              added->size());
+      catch_up(*added);
+    }
+  }
+}
+
 Status ServerLink::subscribe_all() {
   set_phase("discovering");
+  auto added = subscribe_new();
+  if (!added) {
+    return added.error();
+  }
+  for (const std::string& warning : status().warnings) {
+    log::get("cloud")->warn("{}: {}", config_.name, warning);
+  }
+  if (config_.events && !events_subscribed_) {
+    SF_TRY(subscribe_events(*subscription_));
+    events_subscribed_ = true;
+  }
+  log::get("cloud")->info("{}: {} series subscribed{}", config_.name, series_.size(),
+                          config_.events ? ", with events" : "");
+  catch_up(*added);
+  return {};
+}
+
+Result<std::vector<ServerLink::Subscribed>> ServerLink::subscribe_new() {
   auto namespaces = NamespaceTable::read(*client_);
   if (!namespaces) {
     return namespaces.error();
@@ -180,54 +235,49 @@ Status ServerLink::subscribe_all() {
   if (!found) {
     return found.error();
   }
-  {
-    std::lock_guard lock(mutex_);
-    warnings_ = found->warnings;
+  if (!subscription_) {
+    auto subscription =
+        client_->create_subscription({.publishing_interval_ms = config_.publishing_interval_ms});
+    if (!subscription) {
+      return subscription.error();
+    }
+    subscription_ = *subscription;
   }
-  for (const std::string& warning : found->warnings) {
-    log::get("cloud")->warn("{}: {}", config_.name, warning);
-  }
-  // Sized once: notifications may arrive (on the client's loop thread) while items are added.
-  series_.clear();
-  series_count_ = 0;
-  series_.reserve(found->variables.size());
+  std::vector<Subscribed> added;
   for (const DiscoveredVariable& v : found->variables) {
+    if (series_.contains(v.key)) {
+      continue;
+    }
     historian::SeriesInfo info{config_.name, v.key, v.browse_path,
                                historian_type(v.data_type).value_or(historian::DataType::string), v.unit};
     auto id = store_.register_series(info);
     if (!id) {
       return id.error();
     }
-    series_.push_back({historian::Series{*id, info}, std::nullopt});
+    // The state exists before its item: the first notification may come before monitor_value returns.
+    auto* state =
+        series_.emplace(v.key, std::make_unique<SeriesState>(SeriesState{{*id, info}, std::nullopt}))
+            .first->second.get();
     ++series_count_;
     if (on_series_) {
-      on_series_(series_.back().series);
+      on_series_(state->series);
     }
-  }
-  auto subscription =
-      client_->create_subscription({.publishing_interval_ms = config_.publishing_interval_ms});
-  if (!subscription) {
-    return subscription.error();
-  }
-  for (std::size_t i = 0; i < found->variables.size(); ++i) {
     ua::MonitoringParameters parameters;
     parameters.sampling_interval = config_.sampling_interval_ms;
     parameters.queue_size = config_.queue_size;
     parameters.discard_oldest = true;
-    auto item = client_->monitor_value(*subscription, ua::value_of(found->variables[i].node), parameters,
-                                       [this, i](const ua::DataValue& value) { on_value(i, value); });
+    auto item =
+        client_->monitor_value(*subscription_, ua::value_of(v.node), parameters,
+                               [this, state](const ua::DataValue& value) { on_value(*state, value); });
     if (!item) {
-      std::lock_guard lock(mutex_);
-      warnings_.push_back(fmt::format("{}: {}", found->variables[i].browse_path, item.error().message));
+      item_warnings_.push_back(fmt::format("{}: {}", v.browse_path, item.error().message));
     }
+    added.push_back({v, state});
   }
-  if (config_.events) {
-    SF_TRY(subscribe_events(*subscription));
-  }
-  log::get("cloud")->info("{}: {} series subscribed{}", config_.name, series_.size(),
-                          config_.events ? ", with events" : "");
-  catch_up(found->variables);
-  return {};
+  std::lock_guard lock(mutex_);
+  warnings_ = found->warnings;
+  warnings_.insert(warnings_.end(), item_warnings_.begin(), item_warnings_.end());
+  return added;
 }
 
 // What the server kept while this gateway was away (stopped, crashed, or not started yet): each
@@ -235,11 +285,11 @@ Status ServerLink::subscribe_all() {
 // after the subscription exists so that nothing falls between the two. The store skips the
 // samples it holds already (their key), so the overlap costs nothing. Variables the server keeps
 // no history of (no HistoryRead access, BadHistoryOperationUnsupported) have nothing to add.
-void ServerLink::catch_up(const std::vector<DiscoveredVariable>& variables) {
+void ServerLink::catch_up(const std::vector<Subscribed>& added) {
   std::uint64_t caught = 0;
   const ua::DateTime end = ua::DateTime::from_system_clock(clock_.utc_now() + 1s);
-  for (std::size_t i = 0; i < variables.size(); ++i) {
-    const historian::Series& series = series_[i].series;
+  for (const auto& [variable, state] : added) {
+    const historian::Series& series = state->series;
     auto latest = store_.latest(series.id);
     ua::HistoryRawParams params;
     // The epoch rather than an open bound: with one bound open a raw read counts values back.
@@ -247,7 +297,7 @@ void ServerLink::catch_up(const std::vector<DiscoveredVariable>& variables) {
         latest && *latest ? to_date_time((*latest)->source_time) : ua::DateTime::from_unix_seconds(0);
     params.end = end;
     params.max_values = 1000;
-    auto values = client_->history_read_raw(variables[i].node, params);
+    auto values = client_->history_read_raw(variable.node, params);
     if (!values) {
       continue;
     }
@@ -286,8 +336,7 @@ historian::Timestamp ServerLink::now() const {
   return std::chrono::time_point_cast<historian::Micros>(clock_.utc_now());
 }
 
-void ServerLink::on_value(std::size_t index, const ua::DataValue& value) {
-  SeriesState& state = series_[index];
+void ServerLink::on_value(SeriesState& state, const ua::DataValue& value) {
   historian::Sample sample = to_sample(state.series.id, value, now());
   if (state.last && sample.source_time == state.last->source_time) {
     if (sample.value == state.last->value && sample.status == state.last->status) {

@@ -3,6 +3,9 @@
 // turn every notification into a sample for the writer and the live bus. After setup the client's
 // own reconnect (session reactivation with Republish, or re-creation after a server restart)
 // keeps the data coming; samples re-delivered by a re-created monitored item are dropped here.
+// Every ServerConfig::rediscover the rules are matched again and Variables the server added
+// since are subscribed as well (OPC 10000-3 §9.32: a model may change while a client is
+// connected; browsing again finds what a change event would have announced).
 #pragma once
 
 #include <atomic>
@@ -50,18 +53,25 @@ class ServerLink {
                                            std::vector<opcua::Variant> inputs);
 
  private:
-  // Per monitored item; touched by the client's loop thread only once setup is done.
+  // Per monitored item; after its item is created only the client's loop thread touches it.
   struct SeriesState {
     historian::Series series;
     std::optional<historian::Sample> last;
   };
+  struct Subscribed {
+    DiscoveredVariable variable;
+    SeriesState* state;
+  };
 
   void setup();
+  void rediscover();
   Status connect_with_retry();
   Status subscribe_all();
-  void catch_up(const std::vector<DiscoveredVariable>& variables);
+  // Discovers the Variables the rules name and subscribes those not subscribed yet; those.
+  Result<std::vector<Subscribed>> subscribe_new();
+  void catch_up(const std::vector<Subscribed>& added);
   Status subscribe_events(opcua::SyncClient::SubscriptionId subscription);
-  void on_value(std::size_t index, const opcua::DataValue& value);
+  void on_value(SeriesState& state, const opcua::DataValue& value);
   void on_event(const std::vector<opcua::Variant>& fields);
   void set_phase(std::string phase, std::string error = {});
   [[nodiscard]] historian::Timestamp now() const;
@@ -73,7 +83,13 @@ class ServerLink {
   LiveBus& bus_;
   std::function<void(const historian::Series&)> on_series_;
   std::unique_ptr<opcua::SyncClient> client_;
-  std::vector<SeriesState> series_;
+  // Every Variable subscribed, by its key: states never move nor go while the link lives (the
+  // items' callbacks hold them). Touched by the setup thread only.
+  std::map<std::string, std::unique_ptr<SeriesState>> series_;
+  std::vector<std::unique_ptr<SeriesState>> retired_;  // of a setup that failed midway
+  std::optional<opcua::SyncClient::SubscriptionId> subscription_;
+  bool events_subscribed_ = false;
+  std::vector<std::string> item_warnings_;  // items the server refused
 
   mutable std::mutex mutex_;
   std::condition_variable stop_wait_;

@@ -19,6 +19,7 @@ servers:
     sampling_interval_ms: 0
     queue_size: 4
     events: true
+    rediscover_s: 0
     subscribe:
       - browse_path: /Objects/Demo
         depth: 2
@@ -61,12 +62,14 @@ TEST(GatewayConfig, ReadsEverySetting) {
   EXPECT_EQ(line1.sampling_interval_ms, 0.0);
   EXPECT_EQ(line1.queue_size, 4U);
   EXPECT_TRUE(line1.events);
+  EXPECT_EQ(line1.rediscover.count(), 0) << "0: the rules are matched when connecting only";
   ASSERT_EQ(line1.subscribe.size(), 2U);
   EXPECT_EQ(line1.subscribe[0].browse_path, "/Objects/Demo");
   EXPECT_EQ(line1.subscribe[0].depth, 2U);
   EXPECT_EQ(line1.subscribe[1].node, "nsu=urn:smartfactory:demo;s=Demo.Counter");
   EXPECT_EQ(config->servers[1].subscribe[0].type, "nsu=urn:example;i=1000");
   EXPECT_EQ(config->servers[1].publishing_interval_ms, 100.0);  // default
+  EXPECT_EQ(config->servers[1].rediscover.count(), 10);         // default
   EXPECT_EQ(line1.security.security, "Aes256_Sha256_RsaPss:Sign");
   EXPECT_EQ(line1.security.user, "gateway");
   EXPECT_EQ(line1.security.password_file, "/etc/sf/gateway.pw");
@@ -128,6 +131,8 @@ TEST(GatewayConfig, MistakesNameTheirPlace) {
        "i=85}]\n",
        "c.yaml:4:17"},
       {"historian: {url: 'sqlite:x.db'}\n", "no servers"},
+      {"servers: [{name: a, url: 'opc.tcp://x:1', rediscover_s: -5, subscribe: [{node: i=85}]}]\n",
+       "rediscover_s >= 0"},
       {"servers: [\n", "c.yaml:"},
       {"servers: [{name: a, url: 'opc.tcp://x:1', subscribe: [{node: i=85}]}]\nknowledge: {due_after_s: "
        "-1}\n",

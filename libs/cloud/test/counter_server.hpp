@@ -101,14 +101,9 @@ class CounterServer {
     server_->with_address_space([&](opcua::server::AddressSpace& space) {
       const opcua::server::ObjectSpec line = add_line_object(space, "urn:smartfactory:test:counters");
       const std::uint16_t ns = line.node_id.namespace_index;
+      line_ = line.node_id;
       for (std::size_t i = 0; i < counters.size(); ++i) {
-        opcua::server::VariableSpec v;
-        v.node_id = opcua::NodeId(ns, opcua::String("Line.Counter" + std::to_string(i)));
-        v.browse_name = opcua::QualifiedName(ns, opcua::String("Counter" + std::to_string(i)));
-        v.parent = line.node_id;
-        v.data_type = opcua::NodeId(0, opcua::id::Int64);
-        v.reader = [counter = counters[i]] { return counter->read(); };
-        (void)space.add_variable(v);
+        (void)add_counter_variable(space, i, counters[i]);
       }
       // Line.Set(Value: Int64) → Previous: Int64 sets the first counter (method calls through
       // the gateway); a value that is not an Int64 is BadInvalidArgument.
@@ -140,9 +135,33 @@ class CounterServer {
   [[nodiscard]] std::uint16_t port() const { return server_->port(); }
   [[nodiscard]] std::size_t monitored_items() const { return server_->monitored_item_count(); }
   void stop() { server_->stop(); }
+  // Line.Counter<i> added while the server runs (a model that grows, as a controller's tags do).
+  Status add_counter(std::size_t i, const std::shared_ptr<Counter>& counter) {
+    Status added;
+    server_->with_address_space(
+        [&](opcua::server::AddressSpace& space) { added = add_counter_variable(space, i, counter); });
+    return added;
+  }
 
  private:
+  Status add_counter_variable(opcua::server::AddressSpace& space, std::size_t i,
+                              const std::shared_ptr<Counter>& counter) {
+    const std::uint16_t ns = line_.namespace_index;
+    opcua::server::VariableSpec v;
+    v.node_id = opcua::NodeId(ns, opcua::String("Line.Counter" + std::to_string(i)));
+    v.browse_name = opcua::QualifiedName(ns, opcua::String("Counter" + std::to_string(i)));
+    v.parent = line_;
+    v.data_type = opcua::NodeId(0, opcua::id::Int64);
+    v.reader = [counter] { return counter->read(); };
+    auto added = space.add_variable(v);
+    if (!added) {
+      return added.error();
+    }
+    return {};
+  }
+
   std::unique_ptr<opcua::server::Server> server_;
+  opcua::NodeId line_;
   bool ok_ = false;
 };
 

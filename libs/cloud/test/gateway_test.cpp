@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <thread>
 
 #include "counter_server.hpp"
 #include "pg_server.hpp"
@@ -385,6 +386,54 @@ TEST(GatewayCall, AMethodIsCalledOnTheNamedServer) {
   ASSERT_FALSE(away);
   EXPECT_EQ(away.error().code, Errc::state);
   (*gateway)->stop();
+}
+
+// A variable the server adds after the gateway subscribed (a controller's tag appearing with its
+// first publication) is found at the next rediscovery and collected like the others; with
+// rediscovery off it is not.
+TEST(GatewayRediscovery, AVariableAddedToTheModelLaterIsSubscribed) {
+  for (const bool enabled : {true, false}) {
+    SCOPED_TRACE(enabled ? "rediscover every second" : "rediscovery off");
+    TempDir dir;
+    auto first = std::make_shared<Counter>();
+    CounterServer server(0, {first});
+    ASSERT_TRUE(server.ok());
+    ServerConfig config = server_config("line", "opc.tcp://127.0.0.1:" + std::to_string(server.port()),
+                                        {path_rule("/Objects/Line", 1)});
+    config.rediscover = std::chrono::seconds(enabled ? 1 : 0);
+    auto gateway = Gateway::create(test::sqlite_gateway(dir, config));
+    ASSERT_TRUE(gateway) << gateway.error().describe();
+    ASSERT_TRUE((*gateway)->start().ok());
+    ASSERT_TRUE(eventually([&] {
+      const auto s = (*gateway)->status().servers[0];
+      return s.phase == "subscribed" && s.series == 1;
+    }));
+
+    auto later = std::make_shared<Counter>();
+    later->set(77);
+    ASSERT_TRUE(server.add_counter(1, later));
+    const auto stored_77 = [&] {
+      auto series = (*gateway)->store().list_series();
+      for (const auto& s : series ? *series : std::vector<historian::Series>{}) {
+        auto latest = (*gateway)->store().latest(s.id);
+        if (s.info.browse_path == "/Objects/Line/Counter1" && latest && *latest &&
+            std::get<std::int64_t>((*latest)->value) == 77) {
+          return true;
+        }
+      }
+      return false;
+    };
+    if (enabled) {
+      EXPECT_TRUE(eventually(stored_77)) << "the added counter's value reaches the historian";
+      EXPECT_EQ((*gateway)->status().servers[0].series, 2U);
+      EXPECT_TRUE(eventually([&] { return server.monitored_items() == 2; }));
+    } else {
+      std::this_thread::sleep_for(std::chrono::seconds(2));
+      EXPECT_FALSE(stored_77());
+      EXPECT_EQ((*gateway)->status().servers[0].series, 1U);
+    }
+    (*gateway)->stop();
+  }
 }
 
 // A subscriber that comes late gets the newest value of every series first (retained values);

@@ -81,6 +81,10 @@ struct ServerConfig {
   double sampling_interval_ms = 100;
   std::uint32_t queue_size = 10;
   bool events = false;
+  // How often the subscribe rules are matched against the server's model again once subscribed:
+  // variables it adds later (a controller's tags appear with its first publication) are then
+  // subscribed too. 0: only when connecting.
+  std::chrono::seconds rediscover{10};
   std::vector<SubscribeRule> subscribe;
   ConnectionSecurity security;
 };

@@ -55,15 +55,27 @@ await scenario(async (browser, opts) => {
   check(placed.status === 201, `the operator places an order to watch its box: ${JSON.stringify(placed.body)}`);
   const boxMark = `#schematic rect.box[data-order="${placed.body.id}"]`;
   await page.waitForSelector(boxMark, {timeout: 600000});
-  const stations = (await pageFetch(page, 'GET', '/api/layout')).body.belts
-    .flatMap((b) => (b.stations || []).map((st) => `${b.name}/${st.name}`));
+  // Places: a belt's stations, and a belt's name alone (where it takes boxes over).
+  const places = (await pageFetch(page, 'GET', '/api/layout')).body.belts
+    .flatMap((b) => [b.name, ...(b.stations || []).map((st) => `${b.name}/${st.name}`)]);
   const at = await page.$eval(boxMark, (r) => r.dataset.at);
-  check(stations.includes(at), `the box of ${placed.body.id} is drawn at a station of the layout: ${at}`);
+  check(places.includes(at), `the box of ${placed.body.id} is drawn at a place of the layout: ${at}`);
   await screenshot(page, opts.screenshots, 'operator-line');
-  await page.waitForSelector(boxMark, {hidden: true, timeout: 900000});
-  const done = (await pageFetch(page, 'GET', `/api/orders/${placed.body.id}`)).body;
-  check(['done', 'failed'].includes(done.state) && !done.place,
-    `the box leaves the schematic when its order ends (${done.state})`);
+  // Every place it passes is drawn: the mark stays until the order ends, then goes.
+  let order = placed.body;
+  const until = Date.now() + 900000;
+  while (!['done', 'failed'].includes(order.state) && Date.now() < until) {
+    const drawn = await page.$(boxMark);
+    order = (await pageFetch(page, 'GET', `/api/orders/${placed.body.id}`)).body;
+    if (order.state === 'in work' && order.place && !drawn) {
+      const again = await page.waitForSelector(boxMark, {timeout: 10000}).catch(() => null);
+      check(again, `the box of ${placed.body.id} at ${order.place.at} is on the schematic`);
+    }
+    await new Promise((resolve) => setTimeout(resolve, 1000));
+  }
+  check(['done', 'failed'].includes(order.state) && !order.place, `the order ends (${order.state}) without a place`);
+  await page.waitForSelector(boxMark, {hidden: true, timeout: 30000});
+  note('its box left the schematic');
 
   // The machine in detail, with its trend.
   await page.click(`#machines button[data-select="${name}"]`);

@@ -43,6 +43,8 @@ export function normalizeLayout(raw) {
     const stations = (b.stations || []).map((s) => ({name: s.name,
       at: s.point ? xy(s.point) : s.at ? xy(s.at) : along(points, s.at_m)}));
     for (const s of stations) stationAt.set(`${b.name}/${s.name}`, s.at);
+    // A belt's name alone is the place where it takes boxes over from the belt before it.
+    if (points.length) stationAt.set(b.name, points[0]);
     return {name: b.name, label: b.label || b.name, points, stations};
   });
   const place = (m, offset) => {

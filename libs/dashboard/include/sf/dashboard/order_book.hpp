@@ -26,9 +26,9 @@ struct OrderStepView {
 };
 
 // Where an order's box is, as its steps tell (the operator's schematic draws it): the place
-// ("belt/station") it was put or brought to last and the legs of its route not yet travelled,
-// the first of them the conveyor that carries it next. From "uploaded" ("box N at P"), "routed"
-// (Route::describe: "A -c1-> B -c2-> C (t s)") and "transported" ("box N A → B").
+// ("belt/station", or a belt's name: where it takes boxes over) it was put or brought to last and the legs of
+// its route not yet travelled, the first of them the conveyor that carries it next. From "uploaded" ("box N
+// at P"), "routed" (Route::describe: "A -c1-> B -c2-> C (t s)") and "transported" ("box N A → B").
 struct RouteLeg {
   std::string conveyor;
   std::string to;

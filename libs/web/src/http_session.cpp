@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "live_session.hpp"
+#include "sf/core/log.hpp"
 #include "target.hpp"
 
 namespace sf::web {
@@ -27,27 +28,63 @@ bool is_live_upgrade(const ServerConfig& config, const BeastRequest& request) {
 constexpr auto kLingerTime = std::chrono::seconds(2);
 constexpr std::size_t kLingerBytes = 1024UL * 1024UL;
 
+// RFC 6797 §6.1: browsers that reached us over TLS keep to HTTPS for a year.
+constexpr const char* kStrictTransportSecurity = "max-age=31536000";
+
+Stream open_stream(net::ip::tcp::socket&& socket, const ServerState& state) {
+  if (state.tls) {
+    return {beast::tcp_stream(std::move(socket)), *state.tls};
+  }
+  return Stream(beast::tcp_stream(std::move(socket)));
+}
+
 }  // namespace
 
 HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<ServerState> state,
                          std::shared_ptr<ConnectionSlot> slot)
-    : stream_(std::move(socket)), state_(std::move(state)), slot_(std::move(slot)) {}
+    : stream_(open_stream(std::move(socket), *state)), state_(std::move(state)), slot_(std::move(slot)) {}
 
 void HttpSession::run() {
   // Start on the connection's strand: its handlers never run concurrently.
   net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
-    if (!self->slot_) {
-      self->write(to_beast(error_response(503, "too many connections"), 11, false, false));
+    if (auto* tls = self->stream_.tls()) {
+      self->handshake(*tls);
       return;
     }
-    self->read_next();
+    self->serve();
   });
+}
+
+void HttpSession::handshake(Stream::Tls& tls) {
+  beast::get_lowest_layer(stream_).expires_after(
+      std::chrono::seconds(state_->config.tls->handshake_timeout_seconds));
+  tls.async_handshake(net::ssl::stream_base::server,
+                      [self = shared_from_this()](const beast::error_code& error) {
+                        if (error) {
+                          // Garbage, plain HTTP, a protocol or cipher we do not offer, a peer that stalls:
+                          // nothing can be answered without a session (RFC 8446 §6.2 alerts are OpenSSL's to
+                          // send).
+                          ++self->state_->tls_failures;
+                          sf::log::get("web")->debug("tls handshake failed: {}", error.message());
+                          self->close();
+                          return;
+                        }
+                        self->serve();
+                      });
+}
+
+void HttpSession::serve() {
+  if (!slot_) {
+    write(to_beast(error_response(503, "too many connections"), 11, false, false));
+    return;
+  }
+  read_next();
 }
 
 void HttpSession::read_next() {
   parser_.emplace();
   configure_parser(*parser_, state_->config);
-  stream_.expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
+  beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
   http::async_read_header(
       stream_, buffer_, *parser_,
       [self = shared_from_this()](const beast::error_code& error, std::size_t) { self->on_header(error); });
@@ -127,7 +164,10 @@ void HttpSession::upgrade() {
 void HttpSession::write(BeastResponse response) {
   ++state_->requests;
   response_ = std::make_shared<BeastResponse>(std::move(response));
-  stream_.expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
+  if (state_->tls) {
+    response_->set(http::field::strict_transport_security, kStrictTransportSecurity);
+  }
+  beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(state_->config.idle_timeout_seconds));
   http::async_write(stream_, *response_,
                     [self = shared_from_this()](const beast::error_code& error, std::size_t) {
                       if (error) {
@@ -143,9 +183,10 @@ void HttpSession::write(BeastResponse response) {
 }
 
 void HttpSession::linger() {
+  auto& tcp = beast::get_lowest_layer(stream_);
   beast::error_code ignored;
-  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
-  stream_.expires_after(kLingerTime);
+  tcp.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+  tcp.expires_after(kLingerTime);
   drained_ = 0;
   drain();
 }
@@ -164,9 +205,10 @@ void HttpSession::drain() {
 }
 
 void HttpSession::close() {
+  auto& tcp = beast::get_lowest_layer(stream_);
   beast::error_code ignored;
-  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
-  stream_.close();
+  tcp.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+  tcp.close();
 }
 
 }  // namespace sf::web

@@ -1,14 +1,17 @@
-// One HTTP/1.1 connection (RFC 9112): requests read one at a time with the configured limits,
-// each answered before the next is read (no pipelining in parallel, RFC 9112 §9.3.2); an
-// upgrade to the live endpoint hands the connection to a LiveSession.
+// One HTTP/1.1 connection (RFC 9112), plain or over TLS: the TLS handshake first, then requests
+// read one at a time with the configured limits, each answered before the next is read (no
+// pipelining in parallel, RFC 9112 §9.3.2); an upgrade to the live endpoint hands the connection
+// to a LiveSession.
 #pragma once
 
 #include <atomic>
+#include <boost/asio/ssl/context.hpp>
 #include <boost/beast/core.hpp>
 #include <memory>
 #include <optional>
 
 #include "exchange.hpp"
+#include "stream.hpp"
 
 namespace sf::web {
 
@@ -20,19 +23,24 @@ struct ServerState {
   ServerConfig config;
   Router router;
   std::shared_ptr<LiveHub> hub;
+  std::shared_ptr<boost::asio::ssl::context> tls;  // set by start() when config.tls is
   std::atomic<std::size_t> connections{0};
   std::atomic<std::uint64_t> requests{0};
   std::atomic<std::uint64_t> refused{0};
+  std::atomic<std::uint64_t> tls_failures{0};
 };
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  // slot empty: the connection is over the limit and is answered 503, then closed.
+  // slot empty: the connection is over the limit and is answered 503, then closed. TLS when the
+  // state has a TLS context.
   HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerState> state,
               std::shared_ptr<ConnectionSlot> slot);
   void run();
 
  private:
+  void handshake(Stream::Tls& tls);
+  void serve();
   void read_next();
   void on_header(const beast::error_code& error);
   void read_body();
@@ -45,7 +53,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void drain();
   void close();
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_;
   std::shared_ptr<ServerState> state_;
   std::shared_ptr<ConnectionSlot> slot_;

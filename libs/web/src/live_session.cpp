@@ -23,7 +23,7 @@ std::shared_ptr<const std::string> dump(const nlohmann::json& message) {
 
 }  // namespace
 
-LiveSession::LiveSession(beast::tcp_stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
+LiveSession::LiveSession(Stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
                          std::shared_ptr<ConnectionSlot> slot, TopicFilter filter)
     : ws_(std::move(stream)),
       hub_(std::move(hub)),

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "sf/web/server.hpp"
+#include "stream.hpp"
 
 namespace sf::web {
 
@@ -29,7 +30,7 @@ class LiveHub;
 class LiveSession : public std::enable_shared_from_this<LiveSession> {
  public:
   // filter: the topics this client may subscribe to (empty: all).
-  LiveSession(boost::beast::tcp_stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
+  LiveSession(Stream&& stream, std::shared_ptr<LiveHub> hub, const ServerConfig& config,
               std::shared_ptr<ConnectionSlot> slot, TopicFilter filter = {});
 
   // Completes the opening handshake (RFC 6455 §4.2.2) for the upgrade request.
@@ -49,7 +50,7 @@ class LiveSession : public std::enable_shared_from_this<LiveSession> {
   void write_next();
   void finish();
 
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<Stream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<LiveHub> hub_;
   const ServerConfig& config_;

@@ -7,6 +7,7 @@
 #include "http_session.hpp"
 #include "live_session.hpp"
 #include "sf/core/log.hpp"
+#include "tls.hpp"
 
 namespace sf::web {
 namespace net = boost::asio;
@@ -23,6 +24,14 @@ class HttpServer::Impl {
   Result<std::uint16_t> start() {
     if (context_) {
       return Error(Errc::state, "server already started");
+    }
+    state_->tls.reset();
+    if (state_->config.tls) {
+      auto tls = make_tls_context(*state_->config.tls);
+      if (!tls) {
+        return tls.error();
+      }
+      state_->tls = std::move(*tls);
     }
     auto context = std::make_unique<net::io_context>(std::max(1, state_->config.threads));
     auto acceptor = std::make_shared<tcp::acceptor>(*context);
@@ -53,7 +62,8 @@ class HttpServer::Impl {
     for (int i = 0; i < std::max(1, state_->config.threads); ++i) {
       threads_.emplace_back([this] { context_->run(); });
     }
-    sf::log::get("web")->info("http listening on {}:{}", state_->config.host, port);
+    sf::log::get("web")->info("{} listening on {}:{}", state_->tls ? "https" : "http", state_->config.host,
+                              port);
     return port;
   }
 
@@ -78,8 +88,13 @@ class HttpServer::Impl {
   void publish(const std::string& topic, const nlohmann::json& value) { state_->hub->publish(topic, value); }
 
   ServerStats stats() const {
-    return {state_->connections.load(), state_->requests.load(), state_->refused.load(),
-            state_->hub->stats()};
+    ServerStats stats;
+    stats.connections = state_->connections.load();
+    stats.requests = state_->requests.load();
+    stats.refused_connections = state_->refused.load();
+    stats.tls_failures = state_->tls_failures.load();
+    stats.live_clients = state_->hub->stats();
+    return stats;
   }
 
  private:

@@ -55,6 +55,7 @@ class HttpServerTest : public ::testing::Test {
     EXPECT_EQ(response["X-Content-Type-Options"], "nosniff");
     EXPECT_EQ(response["Referrer-Policy"], "no-referrer");
     EXPECT_EQ(response["X-Frame-Options"], "DENY");
+    EXPECT_EQ(response.count(http::field::strict_transport_security), 0U);  // only over TLS
   }
   // A JSON error with the given status: {"error": "...", "status": N}.
   static void expect_json_error(const testing::HttpResponse& response, int status) {

@@ -1,5 +1,8 @@
 #include "sf/web/testing/client.hpp"
 
+#include <boost/asio/ssl/host_name_verification.hpp>
+#include <boost/beast/ssl.hpp>
+
 namespace sf::web::testing {
 namespace net = boost::asio;
 namespace beast = boost::beast;
@@ -15,10 +18,12 @@ tcp::socket connect(net::io_context& context, std::uint16_t port, int receive_bu
   return socket;
 }
 
-HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target, std::string body,
-                          std::string_view content_type, const HeaderList& headers) {
-  net::io_context context;
-  auto socket = connect(context, port);
+namespace {
+
+// One request and its response on a connected stream, plain or TLS.
+template <typename Stream>
+HttpResponse exchange(Stream& stream, http::verb method, std::string_view target, std::string body,
+                      std::string_view content_type, const HeaderList& headers) {
   http::request<http::string_body> request{method, beast::string_view(target.data(), target.size()), 11};
   request.set(http::field::host, "127.0.0.1");
   for (const auto& [name, value] : headers) {
@@ -30,13 +35,35 @@ HttpResponse http_request(std::uint16_t port, http::verb method, std::string_vie
   }
   request.prepare_payload();
   beast::error_code ignored;
-  http::write(socket, request, ignored);  // a refused body may be cut short; the answer is read
+  http::write(stream, request, ignored);  // a refused body may be cut short; the answer is read
   beast::flat_buffer buffer;
   http::response_parser<http::string_body> parser;
   parser.body_limit(64ULL * 1024ULL * 1024ULL);
   parser.skip(method == http::verb::head);
-  http::read(socket, buffer, parser);
+  http::read(stream, buffer, parser);
   return parser.release();
+}
+
+}  // namespace
+
+HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target, std::string body,
+                          std::string_view content_type, const HeaderList& headers) {
+  net::io_context context;
+  auto socket = connect(context, port);
+  return exchange(socket, method, target, std::move(body), content_type, headers);
+}
+
+HttpResponse https_request(const std::filesystem::path& ca, std::uint16_t port, http::verb method,
+                           std::string_view target, std::string body, std::string_view content_type,
+                           const HeaderList& headers) {
+  net::io_context context;
+  net::ssl::context tls(net::ssl::context::tls_client);
+  tls.load_verify_file(ca.string());
+  tls.set_verify_mode(net::ssl::verify_peer);
+  beast::ssl_stream<tcp::socket> stream(connect(context, port), tls);
+  stream.set_verify_callback(net::ssl::host_name_verification("127.0.0.1"));
+  stream.handshake(net::ssl::stream_base::client);
+  return exchange(stream, method, target, std::move(body), content_type, headers);
 }
 
 std::string raw_exchange(std::uint16_t port, std::string_view bytes) {

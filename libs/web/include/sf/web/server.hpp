@@ -1,6 +1,7 @@
 // HttpServer: HTTP/1.1 (RFC 9110, RFC 9112) and one WebSocket endpoint (RFC 6455) on
-// Boost.Beast, with its own io_context threads. Requests go to a Router, then to static files;
-// the WebSocket endpoint carries live updates by topic (sf/web/live.hpp describes the protocol).
+// Boost.Beast, with its own io_context threads; over TLS (HTTPS, WSS) when configured. Requests go to a
+// Router, then to static files; the WebSocket endpoint carries live updates by topic (sf/web/live.hpp
+// describes the protocol).
 //
 // Concurrency: start() and stop() from one owning thread; publish() and stats() from any
 // thread. Handlers run on the server's threads and must not block for long.
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -29,6 +31,14 @@ using TopicFilter = std::function<bool(std::string_view topic)>;
 // filter, or the response sent instead of the upgrade (401, 403).
 using LiveAccess = std::variant<TopicFilter, Response>;
 
+// HTTPS and WSS instead of plain HTTP on the server's port (RFC 9110 §4.2.2): TLS 1.3, or 1.2 with
+// forward-secret AEAD ciphers only (RFC 9325 §4.1, §4.2).
+struct TlsConfig {
+  std::filesystem::path certificate_chain;  // PEM: the server's certificate, then its issuers
+  std::filesystem::path private_key;        // PEM, unencrypted (PKCS#8 or traditional)
+  int handshake_timeout_seconds = 10;       // a peer that has not finished the handshake is closed
+};
+
 struct ServerConfig {
   std::string host = "127.0.0.1";
   std::uint16_t port = 0;  // 0: any free port, reported by start()
@@ -40,6 +50,8 @@ struct ServerConfig {
   // Who may open the live endpoint and subscribe to what; empty: everyone, every topic. A topic
   // the filter refuses is answered {"error": "not allowed", "topics": [...]} and not subscribed.
   std::function<LiveAccess(const Request& upgrade)> live_access;
+  // Set: every connection is TLS; start() fails on a certificate or key it cannot use.
+  std::optional<TlsConfig> tls;
 
   // Limits: what a peer may make the server hold.
   std::size_t body_limit = 64UL * 1024UL;          // larger request bodies: 413 (RFC 9110 §15.5.14)
@@ -63,6 +75,7 @@ struct ServerStats {
   std::size_t connections = 0;            // open now (HTTP and WebSocket)
   std::uint64_t requests = 0;             // HTTP requests answered
   std::uint64_t refused_connections = 0;  // over max_connections
+  std::uint64_t tls_failures = 0;         // TLS handshakes that failed or timed out (closed)
   std::vector<LiveClientStats> live_clients;
 };
 
@@ -73,7 +86,8 @@ class HttpServer {
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
 
-  // Binds and listens, starts the threads; the port listened on.
+  // Loads the TLS certificate and key (if any), binds and listens, starts the threads; the port
+  // listened on.
   Result<std::uint16_t> start();
   // Closes the listener and every connection, joins the threads. Idempotent.
   void stop();

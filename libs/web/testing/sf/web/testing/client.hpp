@@ -1,7 +1,7 @@
 // Clients for the tests of web servers (libs/web, libs/dashboard): Boost.Beast's HTTP and WebSocket clients
-// over loopback, and a raw socket for bytes no well-behaved client sends. The reads block (Asio's synchronous
-// reads ignore SO_RCVTIMEO): an HTTP read the server never answers ends with the server's idle timeout
-// (kTestIdleTimeout), a live read with the test's timeout.
+// over loopback (HTTP also over TLS), and a raw socket for bytes no well-behaved client sends. The reads
+// block (Asio's synchronous reads ignore SO_RCVTIMEO): an HTTP read the server never answers ends with the
+// server's idle timeout (kTestIdleTimeout), a live read with the test's timeout.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>
@@ -10,6 +10,7 @@
 #include <boost/beast/websocket.hpp>
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -37,6 +38,11 @@ using HeaderList = std::vector<std::pair<std::string, std::string>>;
 HttpResponse http_request(std::uint16_t port, http::verb method, std::string_view target,
                           std::string body = {}, std::string_view content_type = "application/json",
                           const HeaderList& headers = {});
+// The same over TLS, the server's certificate verified against `ca` (PEM) and 127.0.0.1.
+HttpResponse https_request(const std::filesystem::path& ca, std::uint16_t port, http::verb method,
+                           std::string_view target, std::string body = {},
+                           std::string_view content_type = "application/json",
+                           const HeaderList& headers = {});
 
 // Writes bytes on a fresh connection and returns everything read until the server closes or
 // a read times out.

@@ -34,6 +34,8 @@ struct CloudOptions {
   std::string http_host = "127.0.0.1";
   std::string web_users;  // empty: the aggregating server's users file
   std::string web_root = SF_WEB_ROOT;
+  std::filesystem::path tls_cert;  // both set: HTTPS and WSS only
+  std::filesystem::path tls_key;
 };
 
 #ifdef SF_HAVE_DASHBOARD
@@ -55,6 +57,9 @@ Result<std::unique_ptr<dashboard::Dashboard>> start_dashboard(const CloudOptions
   c.http.port = static_cast<std::uint16_t>(o.http_port);
   c.http.threads = 2;
   c.http.static_root = o.web_root;
+  if (!o.tls_cert.empty()) {
+    c.http.tls = web::TlsConfig{o.tls_cert, o.tls_key};
+  }
   c.users = users;
   auto d = dashboard::Dashboard::create(gateway, layout, std::move(c));
   if (!d) {
@@ -64,7 +69,8 @@ Result<std::unique_ptr<dashboard::Dashboard>> start_dashboard(const CloudOptions
   if (!port) {
     return Error(port.error()).with_context(fmt::format("web server on {}:{}", o.http_host, o.http_port));
   }
-  std::printf("dashboard on http://%s:%u/\n", o.http_host.c_str(), *port);
+  std::printf("dashboard on %s://%s:%u/\n", o.tls_cert.empty() ? "http" : "https", o.http_host.c_str(),
+              *port);
   return d;
 }
 #endif
@@ -244,6 +250,7 @@ void register_cloud(CLI::App& app, CommandResult& result) {
       "Users of the dashboard (`smartfactory opcua users` file; roles consumer, viewer, operator, "
       "engineer, admin); default: the aggregating server's users file");
   cmd->add_option("--web-root", o->web_root, "Directory of the dashboard's pages")->capture_default_str();
+  add_tls_options(cmd, o->tls_cert, o->tls_key);
 #endif
   cmd->footer(
       "cloud.yaml:\n"

@@ -6,6 +6,7 @@
 #include <atomic>
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 
 namespace sf::app {
 
@@ -27,6 +28,18 @@ bool stop_requested();
 // Puts the calling thread (and the threads it starts afterwards) on SCHED_FIFO
 // with locked memory when the system allows it; returns whether it did.
 bool try_realtime(int priority);
+
+// `--tls-cert FILE --tls-key FILE` (both or neither): the dashboard over HTTPS and WSS only
+// (cloud, and passed to it by line and demo).
+inline void add_tls_options(CLI::App* cmd, std::filesystem::path& cert, std::filesystem::path& key) {
+  auto* c = cmd->add_option("--tls-cert", cert,
+                            "Serve the dashboard over HTTPS and WSS only (TLS 1.2 or 1.3): the certificate "
+                            "chain, PEM (the server's certificate first, then its issuers). The session "
+                            "cookie gets Secure, every response Strict-Transport-Security");
+  auto* k = cmd->add_option("--tls-key", key, "The private key of --tls-cert: PEM, unencrypted");
+  c->needs(k);
+  k->needs(c);
+}
 
 void register_ecat(CLI::App& app, CommandResult& result);
 // `agent machine|conveyor|product` and `cnp bench` (negotiation module).

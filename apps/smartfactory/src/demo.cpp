@@ -53,6 +53,8 @@ struct DemoOptions {
   bool hosts = false;
   int http_port = -1;
   std::string web_users;
+  fs::path tls_cert;
+  fs::path tls_key;
 };
 
 // A users file for the dashboard when none is given: one operator with a random password, said
@@ -108,6 +110,8 @@ Result<fy::LinePlan> plan(const DemoOptions& o, const fs::path& run_dir) {
   line.hosts = o.hosts;
   line.http_port = o.http_port;
   line.web_users = o.web_users;
+  line.tls_cert = o.tls_cert;
+  line.tls_key = o.tls_key;
   if (o.http_port >= 0 && o.web_users.empty()) {
     fs::create_directories(run_dir, ec);
     auto users = demo_users(run_dir);
@@ -179,7 +183,8 @@ int run_demo(const DemoOptions& o) {
   }
   std::cerr << "demo: the line is up; orders go in\n";
   if (o.http_port > 0) {
-    std::cerr << fmt::format("demo: dashboard on http://127.0.0.1:{}/\n", o.http_port);
+    std::cerr << fmt::format("demo: dashboard on {}://127.0.0.1:{}/\n", o.tls_cert.empty() ? "http" : "https",
+                             o.http_port);
   }
   auto opened = fy::LineView::open(*p);
   if (!opened) {
@@ -266,6 +271,7 @@ void register_demo(CLI::App& app, CommandResult& result) {
       ->capture_default_str();
   cmd->add_option("--web-users", o->web_users,
                   "Users of the dashboard (default: a file with one operator, its password printed)");
+  add_tls_options(cmd, o->tls_cert, o->tls_key);
   cmd->footer(kDemoHelp);
   cmd->callback([o, &result] { result.exit_code = run_demo(*o); });
 }

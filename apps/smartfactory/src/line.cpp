@@ -286,6 +286,7 @@ void register_line(CLI::App& app, CommandResult& result) {
   cmd->add_option(
       "--web-users", o->line.web_users,
       "Users of the dashboard (`smartfactory opcua users` file: consumer, viewer, operator, ...)");
+  add_tls_options(cmd, o->line.tls_cert, o->line.tls_key);
   cmd->add_flag(
       "--hosts", o->line.hosts,
       "Each process in a network namespace of its own, an interface per protocol (root; see above)");

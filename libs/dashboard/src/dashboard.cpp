@@ -280,6 +280,8 @@ Result<std::unique_ptr<Dashboard>> Dashboard::create(cloud::Gateway& gateway, co
   if (!users) {
     return Error(users.error()).with_context("web users");
   }
+  // A session cookie sent over TLS must never travel in clear text (RFC 6265 §8.6).
+  config.secure_cookies = config.secure_cookies || config.http.tls.has_value();
   auto impl = std::make_unique<Impl>(gateway, layout, std::move(config), clock, std::move(*users));
   return std::unique_ptr<Dashboard>(new Dashboard(std::move(impl)));
 }

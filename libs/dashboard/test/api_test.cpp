@@ -23,6 +23,7 @@
 #include "sf/opcua/server/server.hpp"
 #include "sf/testing/temp_dir.hpp"
 #include "sf/web/testing/client.hpp"
+#include "sf/web/testing/tls_files.hpp"
 
 namespace sf::dashboard {
 namespace {
@@ -262,6 +263,7 @@ TEST_F(DashboardApi, SessionsLogInCarryACsrfTokenAndLogOut) {
   const std::string set_cookie(in.raw[http::field::set_cookie]);
   EXPECT_NE(set_cookie.find("HttpOnly"), std::string::npos) << set_cookie;
   EXPECT_NE(set_cookie.find("SameSite=Strict"), std::string::npos) << set_cookie;
+  EXPECT_EQ(set_cookie.find("Secure"), std::string::npos) << "Secure without TLS: " << set_cookie;
   EXPECT_EQ(in.body.at("role"), "consumer");
   EXPECT_EQ(in.body.at("csrf").get<std::string>().size(), 64U);
   auto who = u.get("/api/session");
@@ -271,6 +273,27 @@ TEST_F(DashboardApi, SessionsLogInCarryACsrfTokenAndLogOut) {
   EXPECT_EQ(u.request(http::verb::delete_, "/api/session", {}, false).status, 403);  // no CSRF token
   EXPECT_EQ(u.del("/api/session").status, 204);
   EXPECT_EQ(u.get("/api/session").status, 401);
+}
+
+// A second dashboard on the same gateway, over TLS: the cookie never travels in clear text and
+// browsers are told to keep to HTTPS.
+TEST_F(DashboardApi, OverTlsTheSessionCookieIsSecureAndHstsIsSent) {
+  const auto& files = web::testing::TlsFiles::get();
+  DashboardConfig dc;
+  dc.users = rig->dir.path() / "users.yaml";
+  dc.http.tls = web::TlsConfig{files.chain, files.key};
+  auto d = Dashboard::create(*rig->gateway, rig->layout, dc);
+  ASSERT_TRUE(d) << d.error().describe();
+  auto port = (*d)->start();
+  ASSERT_TRUE(port) << port.error().describe();
+  const auto in = web::testing::https_request(files.ca, *port, http::verb::post, "/api/session",
+                                              json{{"user", "alice"}, {"password", "secret"}}.dump());
+  ASSERT_EQ(in.result_int(), 200U) << in.body();
+  const std::string set_cookie(in[http::field::set_cookie]);
+  EXPECT_NE(set_cookie.find("; Secure"), std::string::npos) << set_cookie;
+  EXPECT_NE(set_cookie.find("HttpOnly"), std::string::npos) << set_cookie;
+  EXPECT_EQ(in[http::field::strict_transport_security], "max-age=31536000");
+  (*d)->stop();
 }
 
 TEST_F(DashboardApi, EveryRouteNeedsASessionOfItsRole) {

@@ -208,6 +208,24 @@ TEST(LinePlan, OptionalProcessesAndFreePorts) {
   EXPECT_NE(other->options.partition, plan->options.partition);
 }
 
+TEST(LinePlan, TheCloudServesTheDashboardOverTlsWhenGivenTheFiles) {
+  testing::TempDir dir;
+  auto o = options(dir.path());
+  o.cloud_config = kLayout;
+  o.http_port = 0;
+  o.tls_cert = "chain.pem";
+  o.tls_key = "key.pem";
+  auto plan = plan_line(o);
+  ASSERT_TRUE(plan) << plan.error().describe();
+  const auto& argv = find(*plan, "cloud")->argv;
+  const auto after = [&](const std::string& option) {
+    auto it = std::find(argv.begin(), argv.end(), option);
+    return it != argv.end() && it + 1 != argv.end() ? *(it + 1) : std::string();
+  };
+  EXPECT_EQ(after("--tls-cert"), std::filesystem::absolute("chain.pem").string());
+  EXPECT_EQ(after("--tls-key"), std::filesystem::absolute("key.pem").string());
+}
+
 TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
   testing::TempDir dir;
   auto o = options(dir.path() / "run");

@@ -58,19 +58,21 @@ void HttpSession::run() {
 void HttpSession::handshake(Stream::Tls& tls) {
   beast::get_lowest_layer(stream_).expires_after(
       std::chrono::seconds(state_->config.tls->handshake_timeout_seconds));
-  tls.async_handshake(net::ssl::stream_base::server,
-                      [self = shared_from_this()](const beast::error_code& error) {
-                        if (error) {
-                          // Garbage, plain HTTP, a protocol or cipher we do not offer, a peer that stalls:
-                          // nothing can be answered without a session (RFC 8446 §6.2 alerts are OpenSSL's to
-                          // send).
-                          ++self->state_->tls_failures;
-                          sf::log::get("web")->debug("tls handshake failed: {}", error.message());
-                          self->close();
-                          return;
-                        }
-                        self->serve();
-                      });
+  tls.async_handshake(
+      net::ssl::stream_base::server,
+      [self = shared_from_this()](const beast::error_code& error) { self->on_handshake(error); });
+}
+
+void HttpSession::on_handshake(const beast::error_code& error) {
+  if (!error) {
+    serve();
+    return;
+  }
+  // Garbage, plain HTTP, a protocol or cipher we do not offer, a peer that stalls: nothing can be
+  // answered without a session; the alert that says why is OpenSSL's to send (RFC 8446 §6.2).
+  ++state_->tls_failures;
+  sf::log::get("web")->debug("tls handshake failed: {}", error.message());
+  close();
 }
 
 void HttpSession::serve() {

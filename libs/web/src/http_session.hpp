@@ -40,6 +40,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
  private:
   void handshake(Stream::Tls& tls);
+  void on_handshake(const beast::error_code& error);
   void serve();
   void read_next();
   void on_header(const beast::error_code& error);

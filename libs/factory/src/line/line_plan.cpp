@@ -157,6 +157,10 @@ std::vector<std::string> own_argv(const LinePlan& plan, const LineProcess& p) {
       if (!o.web_users.empty()) {
         argv.insert(argv.end(), {"--web-users", fs::absolute(o.web_users).string()});
       }
+      if (!o.tls_cert.empty()) {
+        argv.insert(argv.end(), {"--tls-cert", fs::absolute(o.tls_cert).string(), "--tls-key",
+                                 fs::absolute(o.tls_key).string()});
+      }
       return argv;
     }
   }

@@ -30,10 +30,12 @@
 namespace sf::dashboard {
 
 struct DashboardConfig {
-  web::ServerConfig http;       // listen address, web root, limits (live_access is set here)
+  web::ServerConfig http;       // listen address, web root, limits, TLS (live_access is set here)
   std::filesystem::path users;  // the users file (`smartfactory opcua users`); required
-  bool secure_cookies = false;  // Secure on the session cookie (behind TLS)
-  double orders_burst = 5;      // orders a user may place at once,
+  // Secure on the session cookie (RFC 6265 §4.1.2.5): always with http.tls; set it also behind a
+  // proxy that terminates TLS.
+  bool secure_cookies = false;
+  double orders_burst = 5;                         // orders a user may place at once,
   std::chrono::milliseconds order_period{12'000};  // then one per period
   std::chrono::seconds session_idle{std::chrono::hours(8)};
 };

@@ -56,6 +56,9 @@ struct LineOptions {
   // the cloud's log; -1: off) and its users file.
   int http_port = -1;
   std::filesystem::path web_users;
+  // Both set: the dashboard over HTTPS and WSS (`smartfactory cloud --tls-cert --tls-key`).
+  std::filesystem::path tls_cert;
+  std::filesystem::path tls_key;
 };
 
 enum class LineRole : std::uint8_t { plant, machine, gateway, cloud, orders };

@@ -32,3 +32,11 @@ endforeach()
 # a debug build tree takes a third of the disk.
 add_compile_options(-gz)
 add_link_options(-gz)
+
+# Unity builds (CMAKE_UNITY_BUILD, set by the presets: a module's sources are compiled as a few
+# files that #include them, so the headers they share are parsed once per batch instead of once
+# per source; a cold build takes a fraction of the time). GCC then sees the sources as headers and
+# warns that a class uses a type of the anonymous namespace, a warning meant for real headers.
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  target_compile_options(sf_warnings INTERFACE -Wno-subobject-linkage)
+endif()

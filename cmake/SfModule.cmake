@@ -19,6 +19,12 @@ function(sf_unit_test name)
     return()
   endif()
   add_executable(${name} ${T_SOURCES})
+  set_property(GLOBAL APPEND PROPERTY SF_UNIT_TESTS ${name})
+  # The test code itself at -O1 in the optimised builds: it drives the libraries' -O2 code, its
+  # own speed does not matter, and -O1 spends less of the build on the tests.
+  if(CMAKE_BUILD_TYPE MATCHES "^(RelWithDebInfo|Release)$")
+    target_compile_options(${name} PRIVATE -O1)
+  endif()
   target_link_libraries(${name} PRIVATE ${T_DEPS} sf::core_testing GTest::gtest GTest::gmock GTest::gtest_main sf_warnings)
   # SF_SOURCE_DIR: tests that start peers from the repository (node-opcua, Jena) find it there.
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
@@ -33,4 +39,16 @@ function(sf_unit_test name)
          "endforeach()\n")
     set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${script}")
   endif()
+endfunction()
+
+# The `unit_tests` target builds every binary the "unit" label runs and nothing else (the asan
+# build preset builds only it: the CLI, integration peers and benchmarks are not needed there).
+# Called once at the end of the top-level CMakeLists.txt, when every module has registered.
+function(sf_unit_tests_target)
+  if(NOT SF_BUILD_TESTS)
+    return()
+  endif()
+  get_property(tests GLOBAL PROPERTY SF_UNIT_TESTS)
+  add_custom_target(unit_tests)
+  add_dependencies(unit_tests ${tests})
 endfunction()

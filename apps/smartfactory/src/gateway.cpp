@@ -34,7 +34,7 @@ constexpr const char* kGatewayHelp =
     "PackML state, the PLC link, the job or the queue changes (JSON lines with --json).\n"
     "A configuration error names FILE:LINE:COLUMN and nothing starts (exit status 2).";
 
-constexpr const char* kConfigHelp =
+constexpr const char* kGatewayConfigHelp =
     "gateway.yaml (examples per machine in configs/gateways/, docs/shop-floor.md):\n"
     "  machine: conveyor1         # the layout's machine\n"
     "  kind: conveyor             # conveyor, uploader, downloader, legacy-robot\n"
@@ -160,7 +160,7 @@ void register_gateway(CLI::App& app, CommandResult& result) {
       ->capture_default_str();
   cmd->add_option("--duration", o->duration_s, "Stop after this many seconds (0 = until SIGINT/SIGTERM)")
       ->capture_default_str();
-  cmd->footer(std::string(kGatewayHelp) + "\n\n" + kConfigHelp);
+  cmd->footer(std::string(kGatewayHelp) + "\n\n" + kGatewayConfigHelp);
   cmd->callback([o, &result] { result.exit_code = run_gateway(*o); });
 }
 

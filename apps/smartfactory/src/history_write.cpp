@@ -96,7 +96,7 @@ void history_cli::register_events(CLI::App& history, CommandResult& result) {
 
 namespace {
 
-struct WriteOptions {
+struct HistoryWriteOptions {
   std::string db;
   hist::SeriesInfo series{.server = "manual"};
   std::string type = "float64";
@@ -142,7 +142,7 @@ Result<hist::Value> parse_value(hist::DataType type, const std::string& text) {
   return make_error(Errc::invalid_argument, "unknown type");
 }
 
-int run_write(WriteOptions o) {
+int run_history_write(HistoryWriteOptions o) {
   const auto type = hist::data_type_from_string(o.type);
   if (!type) {
     return fail(make_error(
@@ -179,7 +179,7 @@ int run_write(WriteOptions o) {
 }  // namespace
 
 void history_cli::register_write(CLI::App& history, CommandResult& result) {
-  auto o = std::make_shared<WriteOptions>();
+  auto o = std::make_shared<HistoryWriteOptions>();
   auto* cmd = history.add_subcommand("write", "Write one sample, registering its series if needed");
   add_db_option(*cmd, o->db);
   cmd->add_option("--server", o->series.server, "Server of the series (endpoint URL or ApplicationUri)")
@@ -197,7 +197,7 @@ void history_cli::register_write(CLI::App& history, CommandResult& result) {
   cmd->add_option("--seq", o->seq, "Tells apart samples with the same source timestamp")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the series id and time as JSON on stdout");
-  cmd->callback([o, &result] { result.exit_code = run_write(*o); });
+  cmd->callback([o, &result] { result.exit_code = run_history_write(*o); });
 }
 
 }  // namespace sf::app

@@ -23,7 +23,7 @@ namespace {
 namespace kb = sf::knowledge;
 using nlohmann::json;
 
-int fail(std::string_view command, const Error& e) {
+int kb_fail(std::string_view command, const Error& e) {
   std::cerr << "kb " << command << ": " << e.message << "\n";
   return kExitFailure;
 }
@@ -151,13 +151,13 @@ int run_reason(const ReasonOptions& o) {
   rdf.insert(rdf.end(), o.data.begin(), o.data.end());
   auto triples = read_all(dict, rdf);
   if (!triples) {
-    return fail("reason", triples.error());
+    return kb_fail("reason", triples.error());
   }
   kb::RuleSet rules;
   for (const std::string& f : o.rules) {
     auto set = kb::read_rules_file(f, dict);
     if (!set) {
-      return fail("reason", set.error());
+      return kb_fail("reason", set.error());
     }
     std::move(set->rules.begin(), set->rules.end(), std::back_inserter(rules.rules));
   }
@@ -170,12 +170,12 @@ int run_reason(const ReasonOptions& o) {
   auto result = reasoner.run();
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!result) {
-    return fail("reason", result.error());
+    return kb_fail("reason", result.error());
   }
   if (o.json) {
     print_json(reasoner, o, ms);
   } else if (auto st = print_text(reasoner, o); !st) {
-    return fail("reason", st.error());
+    return kb_fail("reason", st.error());
   }
   const auto st = reasoner.stats();
   std::cerr << fmt::format(
@@ -196,20 +196,20 @@ int run_to_nodeset(const NodesetCliOptions& o) {
   kb::Dictionary dict;
   auto triples = read_all(dict, o.inputs);
   if (!triples) {
-    return fail("to-nodeset", triples.error());
+    return kb_fail("to-nodeset", triples.error());
   }
   auto model = kb::extract_ontology(dict, *triples);
   if (!model) {
-    return fail("to-nodeset", model.error());
+    return kb_fail("to-nodeset", model.error());
   }
   std::ofstream out(o.output);
   if (!out) {
-    return fail("to-nodeset", make_error(Errc::io, fmt::format("{}: cannot create", o.output)));
+    return kb_fail("to-nodeset", make_error(Errc::io, fmt::format("{}: cannot create", o.output)));
   }
   kb::NodesetOptions opts;
   opts.namespace_uri = o.namespace_uri;
   if (auto st = kb::write_nodeset(out, dict, *model, opts); !st) {
-    return fail("to-nodeset", st.error());
+    return kb_fail("to-nodeset", st.error());
   }
   std::cerr << fmt::format("kb to-nodeset: {} object types, {} properties, {} objects → {}\n",
                            model->classes.size(), model->properties.size(), model->individuals.size(),
@@ -229,12 +229,12 @@ int run_generate(const GenerateOptions& o) {
   const auto triples = examples::generate_factory_data(dict, o.data);
   std::ofstream out(o.output);
   if (!out) {
-    return fail("generate", make_error(Errc::io, fmt::format("{}: cannot create", o.output)));
+    return kb_fail("generate", make_error(Errc::io, fmt::format("{}: cannot create", o.output)));
   }
   const std::map<std::string, std::string> prefixes{{"sf", "http://smartfactory.example/ontology/candy#"},
                                                     {"f", std::string(examples::kFactoryDataNamespace)}};
   if (auto st = kb::write_rdf(out, dict, triples, kb::syntax_for_path(o.output), prefixes); !st) {
-    return fail("generate", st.error());
+    return kb_fail("generate", st.error());
   }
   std::cerr << fmt::format("kb generate: {} triples → {}\n", triples.size(), o.output);
   return kExitOk;

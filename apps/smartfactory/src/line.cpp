@@ -66,7 +66,7 @@ struct LineCliOptions {
   int modbus_base_port = 0;
 };
 
-double seconds(Clock::duration d) {
+double uptime_seconds(Clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
@@ -94,7 +94,7 @@ json status_json(const fy::LinePlan& plan, const fy::Supervisor& s, std::string_
     const auto& p = status[i];
     json entry = {{"name", p.name},         {"role", fy::to_string(plan.processes[i].role)},
                   {"pid", p.pid},           {"state", fy::to_string(p.state)},
-                  {"restarts", p.restarts}, {"uptime_s", seconds(p.uptime)},
+                  {"restarts", p.restarts}, {"uptime_s", uptime_seconds(p.uptime)},
                   {"opcua", p.opcua},       {"last_exit", p.last_exit},
                   {"log", p.log.string()}};
     if (const auto* host = plan.host_of(plan.processes[i])) {
@@ -150,7 +150,7 @@ void print_table(const fy::LinePlan& plan, const fy::Supervisor& s) {
     const auto& p = status[i];
     std::cout << fmt::format("{:<15} {:<8} {:<10} {:>8} {:>8} {:>8.1f} s  {}\n", p.name,
                              fy::to_string(plan.processes[i].role), fy::to_string(p.state),
-                             p.pid > 0 ? std::to_string(p.pid) : "-", p.restarts, seconds(p.uptime),
+                             p.pid > 0 ? std::to_string(p.pid) : "-", p.restarts, uptime_seconds(p.uptime),
                              p.state == fy::ProcessState::up ? p.opcua : p.last_exit);
   }
   std::cout << std::flush;

@@ -34,7 +34,7 @@ Result<sec::UserDatabase> open_file(const std::string& file) {
   return sec::UserDatabase::load(file);
 }
 
-int fail(const char* command, const Error& error) {
+int users_fail(const char* command, const Error& error) {
   std::cerr << "opcua users " << command << ": " << error.message << "\n";
   return kExitFailure;
 }
@@ -42,7 +42,7 @@ int fail(const char* command, const Error& error) {
 int run_add(const UsersOptions& o) {
   auto db = open_file(o.file);
   if (!db) {
-    return fail("add", db.error());
+    return users_fail("add", db.error());
   }
   sec::User user;
   user.name = o.name;
@@ -51,25 +51,26 @@ int run_add(const UsersOptions& o) {
     auto der = sec::read_certificate_file(o.certificate);
     auto info = der ? sec::inspect_certificate(der->span()) : Result<sec::CertificateInfo>(der.error());
     if (!info) {
-      return fail("add", info.error());
+      return users_fail("add", info.error());
     }
     user.certificate = info->thumbprint;
   } else {
     auto password = read_password(o.password_file, fmt::format("New password for {}: ", o.name));
     if (!password || password->empty()) {
-      return fail("add", password ? make_error(Errc::invalid_argument, "empty password") : password.error());
+      return users_fail("add",
+                        password ? make_error(Errc::invalid_argument, "empty password") : password.error());
     }
     auto hash = sec::hash_password(*password);
     if (!hash) {
-      return fail("add", hash.error());
+      return users_fail("add", hash.error());
     }
     user.password_hash = std::move(*hash);
   }
   if (auto st = db->put(std::move(user)); !st) {
-    return fail("add", st.error());
+    return users_fail("add", st.error());
   }
   if (auto st = db->save(o.file); !st) {
-    return fail("add", st.error());
+    return users_fail("add", st.error());
   }
   std::printf("%s: %s (%zu users)\n", o.file.c_str(), o.name.c_str(), db->users().size());
   return kExitOk;
@@ -78,13 +79,14 @@ int run_add(const UsersOptions& o) {
 int run_remove(const UsersOptions& o) {
   auto db = open_file(o.file);
   if (!db) {
-    return fail("remove", db.error());
+    return users_fail("remove", db.error());
   }
   if (!db->remove(o.name)) {
-    return fail("remove", make_error(Errc::not_found, fmt::format("no user '{}' in {}", o.name, o.file)));
+    return users_fail("remove",
+                      make_error(Errc::not_found, fmt::format("no user '{}' in {}", o.name, o.file)));
   }
   if (auto st = db->save(o.file); !st) {
-    return fail("remove", st.error());
+    return users_fail("remove", st.error());
   }
   return kExitOk;
 }
@@ -92,7 +94,7 @@ int run_remove(const UsersOptions& o) {
 int run_list(const UsersOptions& o) {
   auto db = open_file(o.file);
   if (!db) {
-    return fail("list", db.error());
+    return users_fail("list", db.error());
   }
   for (const auto& user : db->users()) {
     std::string roles;

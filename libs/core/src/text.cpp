@@ -1,6 +1,7 @@
 #include "sf/core/text.hpp"
 
 #include <algorithm>
+#include <system_error>
 
 namespace sf {
 
@@ -46,6 +47,10 @@ int hex_value(char c) {
     return c - 'A' + 10;
   }
   return -1;
+}
+
+std::string errno_text(int err) {
+  return std::generic_category().message(err);
 }
 
 }  // namespace sf

@@ -17,7 +17,7 @@ using historian::Sample;
 using historian::SeriesId;
 using historian::Store;
 
-constexpr std::string_view kMachines = "/Objects/Machines/";
+constexpr std::string_view kMachinesFolder = "/Objects/Machines/";
 constexpr std::size_t kPage = 100'000;
 // Where the search for the sample before a range gives up: no historian sample is older than
 // the Unix epoch (the gateway maps OPC UA DateTimes before it to the minimum).
@@ -202,7 +202,7 @@ Result<std::vector<MachineHistory>> read_histories(Store& store, const std::vect
 }  // namespace
 
 std::string machine_series_path(std::string_view machine, std::string_view variable) {
-  return fmt::format("{}{}/{}", kMachines, line::iri_name(machine), variable);
+  return fmt::format("{}{}/{}", kMachinesFolder, line::iri_name(machine), variable);
 }
 
 Result<std::vector<std::string>> oee_machines(Store& store) {
@@ -214,10 +214,10 @@ Result<std::vector<std::string>> oee_machines(Store& store) {
   std::set<std::string> names;
   for (const auto& s : *all) {
     std::string_view path = s.info.browse_path;
-    if (!path.starts_with(kMachines) || !path.ends_with(suffix)) {
+    if (!path.starts_with(kMachinesFolder) || !path.ends_with(suffix)) {
       continue;
     }
-    path.remove_prefix(kMachines.size());
+    path.remove_prefix(kMachinesFolder.size());
     path.remove_suffix(suffix.size());
     if (!path.empty() && path.find('/') == std::string_view::npos) {
       names.emplace(path);

@@ -17,7 +17,7 @@ using historian::Sample;
 using historian::SeriesInfo;
 using test::at;
 
-constexpr double kEps = 1e-12;
+constexpr double kHistoryEps = 1e-12;
 
 class OeeHistoryTest : public ::testing::Test {
  protected:
@@ -84,21 +84,21 @@ TEST_F(OeeHistoryTest, ScriptedRunFromTheHistorian) {
   EXPECT_EQ(m->actual_production_time, std::chrono::seconds{600});
   EXPECT_EQ(m->produced, 210U);
   EXPECT_EQ(m->good, 200U);
-  EXPECT_NEAR(*m->availability, 600.0 / 860.0, kEps);
-  EXPECT_NEAR(*m->performance, 0.525, kEps);
-  EXPECT_NEAR(*m->quality, 200.0 / 210.0, kEps);
-  EXPECT_NEAR(*m->oee, 300.0 / 860.0, kEps);
+  EXPECT_NEAR(*m->availability, 600.0 / 860.0, kHistoryEps);
+  EXPECT_NEAR(*m->performance, 0.525, kHistoryEps);
+  EXPECT_NEAR(*m->quality, 200.0 / 210.0, kHistoryEps);
+  EXPECT_NEAR(*m->oee, 300.0 / 860.0, kHistoryEps);
 
   auto trend = machine_oee_trend(*store_, "Uploader", {at(0), at(1000)}, std::chrono::seconds{250},
                                  {{"Uploader", 2.0}});
   ASSERT_TRUE(trend) << trend.error().describe();
   ASSERT_EQ(trend->size(), 4U);
-  EXPECT_NEAR(*(*trend)[1].oee, 0.456, kEps);  // oee_test.cpp TrendBuckets
+  EXPECT_NEAR(*(*trend)[1].oee, 0.456, kHistoryEps);  // oee_test.cpp TrendBuckets
 
   auto line = line_oee(*store_, {}, {at(0), at(1000)}, {{"Uploader", 1.5}});
   ASSERT_TRUE(line) << line.error().describe();
   EXPECT_EQ(line->constraint, "Uploader");
-  EXPECT_NEAR(*line->oee, 300.0 / 860.0, kEps);
+  EXPECT_NEAR(*line->oee, 300.0 / 860.0, kHistoryEps);
 }
 
 // A range that starts long after the last state sample before it (the look back over growing
@@ -128,7 +128,7 @@ TEST_F(OeeHistoryTest, BadSamplesAreUnknownTime) {
   ASSERT_TRUE(m) << m.error().describe();
   EXPECT_EQ(m->unknown_time, std::chrono::seconds{40});
   EXPECT_EQ(m->actual_production_time, std::chrono::seconds{60});
-  EXPECT_NEAR(*m->availability, 1.0, kEps);
+  EXPECT_NEAR(*m->availability, 1.0, kHistoryEps);
 }
 
 TEST_F(OeeHistoryTest, MachinesAndMissingSeries) {

@@ -186,7 +186,6 @@ std::optional<StopReason> operator_stop_reason(PackMLCommand command) {
 }
 
 void PackMLUnit::run(UnitWork& work) {
-  using S = PackMLState;
   switch (state_) {
     case S::Execute:
       work.execute();

@@ -11,7 +11,7 @@ namespace {
 
 using S = PackMLState;
 
-bool contains(const std::vector<std::string>& texts, std::string_view part) {
+bool mentions(const std::vector<std::string>& texts, std::string_view part) {
   return std::any_of(texts.begin(), texts.end(),
                      [&](const std::string& t) { return t.find(part) != std::string::npos; });
 }
@@ -75,7 +75,7 @@ TEST(GatewayContractNet, AGatewayWhosePlcIsUnreachableDoesNotBidUntilItIsBack) {
   ASSERT_TRUE(rig.run_until([&] { return !up.link_up(); }, 1s));
   const Negotiated lost = cnp.negotiate("upload", {{"box_type", 0}});
   EXPECT_FALSE(lost.ok);
-  EXPECT_TRUE(contains(cnp.heard().reasons<cnp::Refuse>("uploader"), "uploader does not answer"));
+  EXPECT_TRUE(mentions(cnp.heard().reasons<cnp::Refuse>("uploader"), "uploader does not answer"));
 
   rig.clear("plc-unreachable:uploader");
   ASSERT_TRUE(rig.run_until([&] { return up.status().packml.state == S::Execute; }, 2s));
@@ -120,7 +120,7 @@ TEST(GatewayContractNet, AJobThatFailsOnTheLineIsAFailureToTheProduct) {
   const auto failures = cnp.heard().reasons<cnp::Failure>("toshiba");
   ASSERT_EQ(failures.size(), 1U);
   EXPECT_NE(failures[0].find("dispenser empty"), std::string::npos) << failures[0];
-  EXPECT_TRUE(contains(cnp.heard().reasons<cnp::Refuse>("toshiba"), "toffee dispenser ran empty"));
+  EXPECT_TRUE(mentions(cnp.heard().reasons<cnp::Refuse>("toshiba"), "toffee dispenser ran empty"));
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ bool contains(const std::vector<std::string>& argv, const std::vector<std::strin
 }
 
 TEST(HostPlan, EveryProcessHasANamespaceWithAnInterfacePerProtocolOfItsRole) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   ASSERT_TRUE(plan->hosts);
@@ -87,7 +87,7 @@ TEST(HostPlan, EveryProcessHasANamespaceWithAnInterfacePerProtocolOfItsRole) {
 }
 
 TEST(HostPlan, AddressesAreDistinctAndInTheirNetworksSubnet) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   std::map<K, std::string> subnet;
@@ -117,7 +117,7 @@ TEST(HostPlan, AddressesAreDistinctAndInTheirNetworksSubnet) {
 }
 
 TEST(HostPlan, TheCommandsMakeEveryNamespaceBridgeAndCableOnceAndRemoveThem) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   const auto& h = *plan->hosts;
@@ -189,7 +189,7 @@ TEST(HostPlan, TheNamesComeFromTheRunDirectory) {
 }
 
 TEST(HostPlan, ProcessesRunInTheirNamespacesAndThePlantServesOnItsInterfaces) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   for (const auto& p : plan->processes) {
@@ -210,7 +210,7 @@ TEST(HostPlan, ProcessesRunInTheirNamespacesAndThePlantServesOnItsInterfaces) {
 }
 
 TEST(HostPlan, TheConfigurationsNameEachProcesssInterfacesAndAddresses) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   const auto& h = *plan->hosts;
@@ -262,7 +262,7 @@ TEST(HostPlan, TheConfigurationsNameEachProcesssInterfacesAndAddresses) {
 }
 
 TEST(HostPlan, PlansThatCannotBeMadeAreRefused) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = hosts_plan(dir.path());
   ASSERT_TRUE(plan) << plan.error().describe();
   auto processes = plan->processes;
@@ -326,7 +326,7 @@ class HostNetworksTest : public ::testing::Test {
   }
   static std::string links(const std::string& netns) { return output_of({"ip", "-n", netns, "-o", "link"}); }
 
-  testing::TempDir dir_;
+  sf::testing::TempDir dir_;
   HostPlan plan_;
 };
 

@@ -24,7 +24,7 @@ using line_rig::kLayout;
 using line_rig::options;
 
 TEST(LinePlan, EveryMachineOfTheDefaultLayoutHasItsProcessInStartOrder) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = plan_line(options(dir.path()));
   ASSERT_TRUE(plan) << plan.error().describe();
   std::vector<std::string> names;
@@ -46,7 +46,7 @@ TEST(LinePlan, EveryMachineOfTheDefaultLayoutHasItsProcessInStartOrder) {
 }
 
 TEST(LinePlan, OpcUaPortsCountUpFromTheBaseAndAreDistinct) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = plan_line(options(dir.path()));
   ASSERT_TRUE(plan) << plan.error().describe();
   std::set<std::uint16_t> ports;
@@ -64,7 +64,7 @@ TEST(LinePlan, OpcUaPortsCountUpFromTheBaseAndAreDistinct) {
 }
 
 TEST(LinePlan, TheGeneratedConfigurationsParseWithTheControllersOwnParsers) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = plan_line(options(dir.path()));
   ASSERT_TRUE(plan) << plan.error().describe();
   const auto endpoints = parse_plant_endpoints(endpoints_line(plan->layout, 21502, 31980));
@@ -113,7 +113,7 @@ TEST(LinePlan, TheGeneratedConfigurationsParseWithTheControllersOwnParsers) {
 }
 
 TEST(LinePlan, WithoutALayoutFileTheConfigurationsUseTheBuiltInLayout) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto o = options(dir.path());
   o.layout_file.clear();
   auto plan = plan_line(o);
@@ -132,7 +132,7 @@ TEST(LinePlan, WithoutALayoutFileTheConfigurationsUseTheBuiltInLayout) {
 }
 
 TEST(LinePlan, ThePlantsReadyLineWritesTheControllersConfigurations) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = plan_line(options(dir.path()));
   ASSERT_TRUE(plan) << plan.error().describe();
   auto processes = supervised_processes(*plan);
@@ -164,7 +164,7 @@ TEST(LinePlan, ThePlantsReadyLineWritesTheControllersConfigurations) {
 }
 
 TEST(LinePlan, TheOrderServiceTakesTheOrdersFile) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   const fs::path file = dir.path() / "orders.yaml";
   std::ofstream(file) << "orders:\n  - {id: o1, box: small-box, candy: {gummy: 4, toffee: 2}}\n";
   auto o = options(dir.path());
@@ -184,7 +184,7 @@ TEST(LinePlan, TheOrderServiceTakesTheOrdersFile) {
 }
 
 TEST(LinePlan, OptionalProcessesAndFreePorts) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto o = options(dir.path());
   o.order_service = false;
   o.cloud_config = kLayout;  // any file: the cloud reads it, the plan only passes it on
@@ -209,7 +209,7 @@ TEST(LinePlan, OptionalProcessesAndFreePorts) {
 }
 
 TEST(LinePlan, TheCloudServesTheDashboardOverTlsWhenGivenTheFiles) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto o = options(dir.path());
   o.cloud_config = kLayout;
   o.http_port = 0;
@@ -227,7 +227,7 @@ TEST(LinePlan, TheCloudServesTheDashboardOverTlsWhenGivenTheFiles) {
 }
 
 TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto o = options(dir.path() / "run");
   o.historian = "sqlite:" + (dir.path() / "history.db").string();
   auto plan = plan_line(o);
@@ -251,7 +251,7 @@ TEST(LinePlan, WithAHistorianTheRunDirectoryGetsTheCloudsConfiguration) {
 }
 
 TEST(LinePlan, BadOptionsAreRefusedBeforeAnythingStarts) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto expect_refused = [&](LineOptions o, std::string_view words) {
     auto plan = plan_line(std::move(o));
     ASSERT_FALSE(plan) << words;
@@ -292,7 +292,7 @@ TEST(LinePlan, PlantEndpointsLinesAreChecked) {
 }
 
 TEST(LinePlan, ACommandIsThereWhenItsOwnHelpAnswers) {
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   // Like a CLI11 program: an unknown command's --help prints the program's own help, exit 0.
   const fs::path program = dir.path() / "prog";
   std::ofstream(program) << "#!/bin/sh\nif [ \"$1\" = line ]; then echo 'Usage: prog line [OPTIONS]'; "

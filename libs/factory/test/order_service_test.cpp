@@ -133,7 +133,7 @@ TEST_F(OrderServiceTest, AnOperatorsOrderIsAcceptedAndBadOnesAreRefused) {
 
 TEST_F(OrderServiceTest, TheLineViewReadsItsCountersAsTheDemoShowsThem) {
   start("operator");
-  testing::TempDir dir;
+  sf::testing::TempDir dir;
   auto plan = plan_line(line_rig::options(dir.path()));
   ASSERT_TRUE(plan) << plan.error().describe();
   for (auto& p : plan->processes) {

@@ -74,7 +74,7 @@ class SupervisorTest : public ::testing::Test {
 
   std::string path(std::string_view name) const { return (dir_.path() / name).string(); }
 
-  testing::TempDir dir_;
+  sf::testing::TempDir dir_;
   ManualClock clock_;
 };
 

@@ -18,7 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 using test::HookedStore;
 
-const Timestamp kT0 = from_micros(1'763'683'200'000'000);
+const Timestamp kCrashT0 = from_micros(1'763'683'200'000'000);
 const SeriesInfo kSeries{"opc.tcp://m1:4840", "ns=2;s=Crash"};
 constexpr int kBatches = 40;
 constexpr int kPerBatch = 25;
@@ -28,8 +28,8 @@ std::vector<Sample> batch(int n) {
   const auto id = series_id(kSeries.server, kSeries.node_id);
   for (int i = 0; i < kPerBatch; ++i) {
     const int k = n * kPerBatch + i;
-    out.push_back(
-        test::make_sample(id, kT0 + k * 1ms, kT0, Value{std::string(static_cast<std::size_t>(k % 7), 'x')}));
+    out.push_back(test::make_sample(id, kCrashT0 + k * 1ms, kCrashT0,
+                                    Value{std::string(static_cast<std::size_t>(k % 7), 'x')}));
   }
   return out;
 }
@@ -64,7 +64,8 @@ class CrashTest : public ::testing::Test {
       const auto b = batch(n);
       expected.insert(expected.end(), b.begin(), b.end());
     }
-    auto rows = (*store)->read_raw(series_id(kSeries.server, kSeries.node_id), kT0, kT0 + 1h, 100'000);
+    auto rows =
+        (*store)->read_raw(series_id(kSeries.server, kSeries.node_id), kCrashT0, kCrashT0 + 1h, 100'000);
     ASSERT_TRUE(rows.ok()) << rows.error().describe();
     ASSERT_EQ(rows->size(), expected.size());
     EXPECT_TRUE(*rows == expected);

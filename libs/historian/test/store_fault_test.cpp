@@ -18,13 +18,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const Timestamp kT0 = from_micros(1'763'683'200'000'000);
+const Timestamp kFaultT0 = from_micros(1'763'683'200'000'000);
 
 std::vector<Sample> batch(SeriesId id, int n, int per_batch) {
   std::vector<Sample> out;
   for (int i = 0; i < per_batch; ++i) {
     const auto k = n * per_batch + i;
-    out.push_back(make_sample(id, kT0 + k * 1ms, kT0 + k * 1ms + 5us, Value{double(k) / 4}));
+    out.push_back(make_sample(id, kFaultT0 + k * 1ms, kFaultT0 + k * 1ms + 5us, Value{double(k) / 4}));
   }
   return out;
 }
@@ -40,7 +40,7 @@ class StoreFaults : public ::testing::Test {
   void expect_exactly(const std::vector<Sample>& expected, SeriesId id) {
     auto store = open_store(backend_->url());
     ASSERT_TRUE(store.ok()) << store.error().describe();
-    auto rows = (*store)->read_raw(id, kT0 - 1h, kT0 + 100h, 10 * expected.size() + 10);
+    auto rows = (*store)->read_raw(id, kFaultT0 - 1h, kFaultT0 + 100h, 10 * expected.size() + 10);
     ASSERT_TRUE(rows.ok()) << rows.error().describe();
     ASSERT_EQ(rows->size(), expected.size()) << "samples missing or duplicated";
     EXPECT_TRUE(*rows == expected) << "samples differ in content or order";
@@ -117,7 +117,7 @@ TYPED_TEST(StoreFaults, DatabaseAwayFromTheStartIsCaughtUpLater) {
     ASSERT_TRUE((*store)->append(b).ok());
     expected.insert(expected.end(), b.begin(), b.end());
   }
-  EXPECT_FALSE((*store)->read_raw(*id, kT0, kT0 + 1h, 10).ok()) << "reads report the database away";
+  EXPECT_FALSE((*store)->read_raw(*id, kFaultT0, kFaultT0 + 1h, 10).ok()) << "reads report the database away";
   this->backend_->make_available();
   this->clock_.advance(1min);
   ASSERT_TRUE((*store)->flush().ok());

@@ -36,12 +36,12 @@ std::string literal(std::string_view text) {
   return out + "\"";
 }
 
-std::string number(double v) {
+std::string turtle_number(double v) {
   return fmt::format("\"{}\"^^xsd:double",
                      v == std::floor(v) ? fmt::format("{:.1f}", v) : fmt::format("{}", v));
 }
 
-std::string list(const std::vector<std::string>& items) {
+std::string turtle_list(const std::vector<std::string>& items) {
   std::string out;
   for (const auto& item : items) {
     out += (out.empty() ? "" : " , ") + item;
@@ -54,14 +54,14 @@ std::string capabilities(const std::vector<std::string>& names) {
   for (const auto& n : names) {
     out.push_back(sf(n));
   }
-  return list(out);
+  return turtle_list(out);
 }
 
 void catalog(std::string& out, const Catalog& c) {
   out += "\n# --- The catalog: candy and box types a consumer can choose ------------------------------\n\n";
   for (const auto& t : c.candy_types) {
     out += fmt::format("{} a sf:CandyType , owl:NamedIndividual ; rdfs:label {} ; sf:unitWeight {} .\n",
-                       sf(t.name), literal(t.label), number(t.unit_weight_g));
+                       sf(t.name), literal(t.label), turtle_number(t.unit_weight_g));
   }
   for (const auto& b : c.box_types) {
     out += fmt::format("{} a sf:BoxType , owl:NamedIndividual ; rdfs:label {} ; sf:capacity {} .\n",
@@ -114,7 +114,7 @@ void smart_robot(std::string& out, const RobotSpec& r) {
       "{}Slave a sf:EtherCATSlave ; rdfs:label \"ET1100 slave\" ; sf:model \"smart controller slave\" ;\n"
       "  sf:stationAddress \"4097\"^^xsd:unsignedShort ; sf:inputCount \"{}\"^^xsd:int ; "
       "sf:outputCount \"{}\"^^xsd:int ;\n  sf:hasComponent {} .\n",
-      m, kSmartIo, kSmartIo, list(parts));
+      m, kSmartIo, kSmartIo, turtle_list(parts));
   for (unsigned a = 1; a <= kSmartAxes; ++a) {
     std::string travel;
     if (a <= kArmAxes) {
@@ -123,8 +123,8 @@ void smart_robot(std::string& out, const RobotSpec& r) {
       // To a tenth, rounded outwards: every position the arm may take is inside (the rule
       // axisTravel compares live positions to these), a rounding error past it too.
       travel = fmt::format(" ; sf:minPosition {} ; sf:maxPosition {}",
-                           number(std::floor(limit.min * scale * 10 + 1e-6) / 10),
-                           number(std::ceil(limit.max * scale * 10 - 1e-6) / 10));
+                           turtle_number(std::floor(limit.min * scale * 10 + 1e-6) / 10),
+                           turtle_number(std::ceil(limit.max * scale * 10 - 1e-6) / 10));
     }
     out += fmt::format("{}Axis{} a sf:ServoAxis ; sf:axisIndex \"{}\"^^xsd:int{} .\n", m, a, a, travel);
   }
@@ -139,9 +139,9 @@ void robots(std::string& out, const Layout& layout) {
     const std::string m = p(r.name);
     const char* type = r.kind == RobotKind::legacy_articulated ? "sf:ArticulatedRobot" : "sf:ScaraRobot";
     // A legacy controller reports its drives' temperature (robot_controller::kTemperature).
-    const std::string limit =
-        r.legacy() ? fmt::format(" ;\n  sf:maxTemperature {}", number(robot_controller::kMaxTemperature))
-                   : "";
+    const std::string limit = r.legacy() ? fmt::format(" ;\n  sf:maxTemperature {}",
+                                                       turtle_number(robot_controller::kMaxTemperature))
+                                         : "";
     out += fmt::format(
         "\n{} a {} , owl:NamedIndividual ; rdfs:label {} ;\n  sf:manufacturer {} ; sf:model {} ; "
         "sf:canPerform {} ;\n  sf:controlledBy {}Controller ; sf:hasComponent {}Controller{} .\n",
@@ -177,9 +177,9 @@ void conveyors(std::string& out, const Layout& layout) {
     out += fmt::format(
         "\n{} a sf:Conveyor , owl:NamedIndividual ; rdfs:label {} ;\n  sf:canPerform {} ; sf:length {} ; "
         "sf:maxSpeed {} ;\n  sf:controlledBy {}Controller ; sf:hasComponent {}Controller{} .\n",
-        m, literal(b.label), capabilities(b.capabilities), number(std::round(b.length() * 1000) / 1000),
-        number(b.max_speed_mps), m, m,
-        next.empty() ? "" : fmt::format(" ;\n  sf:connectedTo {}", list(next)));
+        m, literal(b.label), capabilities(b.capabilities),
+        turtle_number(std::round(b.length() * 1000) / 1000), turtle_number(b.max_speed_mps), m, m,
+        next.empty() ? "" : fmt::format(" ;\n  sf:connectedTo {}", turtle_list(next)));
     legacy_controller(out, m, b.label, b.plc, "PLC");
   }
 }
@@ -226,7 +226,7 @@ std::string line_turtle(const Layout& layout, std::string_view source) {
   out += fmt::format(
       "\n# --- The line ------------------------------------------------------------------------------\n\n"
       "p:Line a sf:ProductionLine , owl:NamedIndividual ; rdfs:label {} ;\n  sf:hasComponent {} .\n",
-      literal(layout.label), list(machines));
+      literal(layout.label), turtle_list(machines));
   robots(out, layout);
   out += "\n# --- Box uploader and downloader on Mitsubishi PLCs ----------------------------------------\n";
   transfer(out, layout, layout.uploader, "sf:BoxUploader");

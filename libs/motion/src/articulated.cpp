@@ -10,7 +10,7 @@ namespace sf::motion {
 namespace {
 
 constexpr double kHalfPi = std::numbers::pi / 2.0;
-constexpr double kSingularRadius = 1e-3;  // wrist centre on the base axis: θ1 undefined
+constexpr double kWristSingularRadius = 1e-3;  // wrist centre on the base axis: θ1 undefined
 
 struct WristTarget {
   double r;  // horizontal distance of the wrist centre from the base axis
@@ -34,7 +34,7 @@ ToolPose articulated_forward(const ArticulatedGeometry& g, const ArticulatedJoin
 
 Result<ArticulatedJoints> articulated_inverse(const ArticulatedGeometry& g, const ToolPose& pose) {
   const auto [r, s] = wrist_target(g, pose.position);
-  if (r < kSingularRadius) {
+  if (r < kWristSingularRadius) {
     return make_error(Errc::out_of_range, "wrist centre on the base axis (singular)");
   }
   const double d = std::hypot(r, s);

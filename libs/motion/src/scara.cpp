@@ -12,7 +12,7 @@ namespace {
 
 // Closer than this to the shoulder axis θ1 is undefined (l1 = l2) or the
 // Jacobian is too ill-conditioned to follow a path.
-constexpr double kSingularRadius = 1e-3;
+constexpr double kShoulderSingularRadius = 1e-3;
 constexpr double kTurn = 2.0 * std::numbers::pi;
 
 double moves(const ScaraJoints& a, const ScaraJoints& b) {
@@ -80,7 +80,7 @@ Status check_joint_limits(const ScaraGeometry& g, const ScaraJoints& q) {
 }
 
 double ScaraGeometry::min_reach() const {
-  return std::max(std::abs(l1 - l2), kSingularRadius);
+  return std::max(std::abs(l1 - l2), kShoulderSingularRadius);
 }
 
 ToolPose scara_forward(const ScaraGeometry& g, const ScaraJoints& q) {

@@ -8,14 +8,14 @@
 namespace sf::motion {
 namespace {
 
-ArticulatedGeometry arm() {
+ArticulatedGeometry articulated_arm() {
   ArticulatedGeometry g;
   g.base = {0.5, -0.5, 0.0};
   return g;
 }
 
 TEST(ArticulatedTest, ForwardOfAStretchedArmPointingDown) {
-  const auto g = arm();
+  const auto g = articulated_arm();
   // Upper arm and forearm horizontal along the base's +x, tool straight down.
   const auto p = articulated_forward(g, {0.0, 0.0, 0.0, 0.0, -std::numbers::pi / 2, 0.0});
   EXPECT_NEAR(p.position.x, 0.5 + 0.6, 1e-12);
@@ -24,7 +24,7 @@ TEST(ArticulatedTest, ForwardOfAStretchedArmPointingDown) {
 }
 
 TEST(ArticulatedTest, InverseComesBackWithTheToolDown) {
-  const auto g = arm();
+  const auto g = articulated_arm();
   const ToolPose target{{0.9, -0.2, 0.15}, 0.3};
   auto q = articulated_inverse(g, target);
   ASSERT_TRUE(q) << q.error().describe();
@@ -38,7 +38,7 @@ TEST(ArticulatedTest, InverseComesBackWithTheToolDown) {
 }
 
 TEST(ArticulatedTest, UnreachableAndSingularPointsAreErrors) {
-  const auto g = arm();
+  const auto g = articulated_arm();
   EXPECT_FALSE(articulated_inverse(g, {{2.0, -0.5, 0.2}, 0.0}));
   EXPECT_FALSE(articulated_inverse(g, {{0.5, -0.5, 0.2}, 0.0}));  // on the base axis
   EXPECT_TRUE(articulated_reaches(g, {0.9, -0.5, 0.1}));

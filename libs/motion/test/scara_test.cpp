@@ -13,7 +13,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-ScaraGeometry arm() {
+ScaraGeometry scara_arm() {
   ScaraGeometry g;
   g.base = {1.0, 2.0, 0.5};
   g.l1 = 0.3;
@@ -22,7 +22,7 @@ ScaraGeometry arm() {
 }
 
 TEST(ScaraTest, ForwardOfClosedFormPoses) {
-  const auto g = arm();
+  const auto g = scara_arm();
   // Stretched along x.
   auto p = scara_forward(g, {0.0, 0.0, 0.1, 0.0});
   EXPECT_NEAR(p.position.x, 1.5, 1e-12);
@@ -37,7 +37,7 @@ TEST(ScaraTest, ForwardOfClosedFormPoses) {
 }
 
 TEST(ScaraTest, InverseGivesBothElbowsAndEachComesBack) {
-  const auto g = arm();
+  const auto g = scara_arm();
   const ToolPose target{{1.25, 2.3, 0.62}, 0.4};
   auto left = scara_inverse(g, target, Elbow::left);
   auto right = scara_inverse(g, target, Elbow::right);
@@ -58,7 +58,7 @@ TEST(ScaraTest, InverseGivesBothElbowsAndEachComesBack) {
 }
 
 TEST(ScaraTest, OutOfReachAndSingularCentreAreErrors) {
-  auto g = arm();
+  auto g = scara_arm();
   auto far = scara_inverse(g, {{1.6, 2.0, 0.6}, 0.0}, Elbow::left);
   ASSERT_FALSE(far);
   EXPECT_NE(far.error().message.find("beyond the reach"), std::string::npos);
@@ -72,7 +72,7 @@ TEST(ScaraTest, OutOfReachAndSingularCentreAreErrors) {
 }
 
 TEST(ScaraTest, JointLimitsRefuseAConfigurationAndNearestPicksTheOther) {
-  auto g = arm();
+  auto g = scara_arm();
   g.limits[1] = {-2.5, 0.0};  // the elbow may only bend right
   const ToolPose target{{1.25, 2.3, 0.6}, 0.0};
   auto left = scara_inverse(g, target, Elbow::left);
@@ -86,7 +86,7 @@ TEST(ScaraTest, JointLimitsRefuseAConfigurationAndNearestPicksTheOther) {
 }
 
 TEST(ScaraTest, NearestKeepsTheCurrentElbow) {
-  const auto g = arm();
+  const auto g = scara_arm();
   const ToolPose target{{1.3, 2.2, 0.6}, 0.0};
   auto from_left = scara_inverse_nearest(g, target, {0.0, 1.0, 0.1, 0.0});
   auto from_right = scara_inverse_nearest(g, target, {1.0, -1.0, 0.1, 0.0});
@@ -159,7 +159,7 @@ TEST(ScaraTest, ForwardOfInverseOverTheWorkspaceGridBothElbows) {
 }
 
 TEST(ScaraTest, NearPicksTheWristTurnWithinLimits) {
-  auto g = arm();
+  auto g = scara_arm();
   const ScaraJoints now{0.3, 1.0, 0.1, 3.1};
   // A yaw whose wrapped θ4 is −3.1: the nearest turn, 3.18, is past +π.
   const ToolPose target{scara_forward(g, {0.3, 1.0, 0.1, -3.1}).position,
@@ -174,7 +174,7 @@ TEST(ScaraTest, NearPicksTheWristTurnWithinLimits) {
 }
 
 TEST(ScaraTest, AlongFollowsTheWristAcrossPiWithoutATurn) {
-  const auto g = arm();
+  const auto g = scara_arm();
   ScaraJoints previous{0.3, 1.0, 0.1, 3.0};
   const Vec3 at = scara_forward(g, previous).position;
   for (int step = 0; step < 50; ++step) {
@@ -188,7 +188,7 @@ TEST(ScaraTest, AlongFollowsTheWristAcrossPiWithoutATurn) {
 }
 
 TEST(ScaraTest, SingularityCheckNamesFullStretchAndTheInnerRadius) {
-  const auto g = arm();
+  const auto g = scara_arm();
   EXPECT_TRUE(check_singularity(g, {0.0, 0.5, 0.0, 0.0}, 0.1));
   auto stretched = check_singularity(g, {0.0, 0.02, 0.0, 0.0}, 0.1);
   ASSERT_FALSE(stretched);
@@ -202,7 +202,7 @@ TEST(ScaraTest, SingularityCheckNamesFullStretchAndTheInnerRadius) {
 // The closed-form joint derivatives against finite differences of the
 // inverse along a curved tool motion.
 TEST(ScaraTest, JointDerivativesMatchFiniteDifferencesOfTheInverse) {
-  const auto g = arm();
+  const auto g = scara_arm();
   const auto pose = [](double s) {
     return ToolPose{{1.25 + 0.05 * s + 0.02 * s * s, 2.25 - 0.03 * s * s * s, 0.6 + 0.01 * s}, 0.2 + 0.3 * s};
   };

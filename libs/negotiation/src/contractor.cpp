@@ -4,15 +4,12 @@
 
 #include <fmt/format.h>
 
+#include "support.hpp"
+
 namespace sf::negotiation {
 namespace {
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
+using detail::Overloaded;
 
 std::chrono::nanoseconds scaled(std::chrono::nanoseconds d, double speed) {
   return std::chrono::nanoseconds{static_cast<std::int64_t>(static_cast<double>(d.count()) / speed)};

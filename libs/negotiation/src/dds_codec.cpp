@@ -5,15 +5,12 @@
 
 #include <fmt/format.h>
 
+#include "support.hpp"
+
 namespace sf::negotiation::codec {
 namespace {
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
+using detail::Overloaded;
 
 template <std::size_t N>
 Status put(char (&dst)[N], std::string_view src, std::string_view what) {

@@ -5,24 +5,13 @@
 
 #include <fmt/format.h>
 
+#include "support.hpp"
+
 namespace sf::negotiation {
 namespace {
 
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
-template <class... Ts>
-Overloaded(Ts...) -> Overloaded<Ts...>;
-
-std::uint32_t random_incarnation() {
-  std::random_device rd;
-  std::uint32_t v = 0;
-  while (v == 0) {
-    v = rd();
-  }
-  return v;
-}
+using detail::Overloaded;
+using detail::random_incarnation;
 
 }  // namespace
 

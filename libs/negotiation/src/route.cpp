@@ -8,17 +8,12 @@
 
 #include <fmt/format.h>
 
+#include "support.hpp"
+
 namespace sf::negotiation {
 namespace {
 
-std::uint32_t random_incarnation() {
-  std::random_device rd;
-  std::uint32_t v = 0;
-  while (v == 0) {
-    v = rd();
-  }
-  return v;
-}
+using detail::random_incarnation;
 
 struct Reach {
   std::chrono::nanoseconds time{0};

@@ -1,6 +1,7 @@
 // Process: waiting, signalling and reaping the child, its stdin and its piped output (the start
 // is in spawn.cpp).
 #include "sf/core/process.hpp"
+#include "sf/core/text.hpp"
 
 #include <poll.h>
 #include <signal.h>
@@ -24,11 +25,6 @@ namespace {
 
 using std::chrono::nanoseconds;
 using time_point = Clock::time_point;
-
-// strerror() is not thread-safe; the error category's message is.
-std::string errno_text(int err) {
-  return std::generic_category().message(err);
-}
 
 time_point now() {
   return SteadyClock::instance().now();

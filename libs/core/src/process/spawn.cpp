@@ -1,6 +1,7 @@
 // Process::spawn: fork + execve with what the child needs prepared before fork, and its failure
 // before execve reported over a close-on-exec pipe. The rest of Process is in process.cpp.
 #include "sf/core/process.hpp"
+#include "sf/core/text.hpp"
 
 #include <fcntl.h>
 #include <sched.h>
@@ -21,11 +22,6 @@ extern char** environ;  // NOLINT(readability-redundant-declaration): execve's e
 
 namespace sf {
 namespace {
-
-// strerror() is not thread-safe; the error category's message is.
-std::string errno_text(int err) {
-  return std::generic_category().message(err);
-}
 
 // A file descriptor closed when it goes out of scope.
 class Fd {

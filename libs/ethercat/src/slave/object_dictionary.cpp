@@ -8,10 +8,6 @@ namespace sf::ethercat::slave {
 
 namespace {
 
-constexpr AbortCode code(SdoAbortCode c) {
-  return static_cast<AbortCode>(c);
-}
-
 // In INIT and BOOT there is no CoE; checks use PREOP rights (the server is
 // only reachable from PREOP on anyway).
 std::uint16_t read_bit(AlState s) {
@@ -176,15 +172,15 @@ AbortCode ObjectDictionary::upload(std::uint16_t index, std::uint8_t subindex, b
   out.clear();
   const OdObject* obj = find(index);
   if (obj == nullptr) {
-    return code(SdoAbortCode::ObjectDoesNotExist);
+    return abort_code(SdoAbortCode::ObjectDoesNotExist);
   }
   if (!complete_access) {
     const OdEntry* e = obj->entry(subindex);
     if (e == nullptr) {
-      return code(SdoAbortCode::SubindexDoesNotExist);
+      return abort_code(SdoAbortCode::SubindexDoesNotExist);
     }
     if (!e->readable(state)) {
-      return code(SdoAbortCode::WriteOnly);
+      return abort_code(SdoAbortCode::WriteOnly);
     }
     out = e->value;
     return 0;
@@ -192,7 +188,7 @@ AbortCode ObjectDictionary::upload(std::uint16_t index, std::uint8_t subindex, b
   // Complete access (ETG.1000.6 §5.6.2.1.1): only subindex 0 or 1 may start
   // it; subindex 0 is padded to 16 bits; entries up to the count follow.
   if (obj->code() == ObjectCode::Var || subindex > 1) {
-    return code(SdoAbortCode::UnsupportedAccess);
+    return abort_code(SdoAbortCode::UnsupportedAccess);
   }
   const std::uint8_t n = obj->count();
   if (subindex == 0) {
@@ -204,7 +200,7 @@ AbortCode ObjectDictionary::upload(std::uint16_t index, std::uint8_t subindex, b
       continue;
     }
     if (!e.readable(state)) {
-      return code(SdoAbortCode::WriteOnly);
+      return abort_code(SdoAbortCode::WriteOnly);
     }
     out.insert(out.end(), e.value.begin(), e.value.end());
   }
@@ -215,14 +211,14 @@ AbortCode ObjectDictionary::download(std::uint16_t index, std::uint8_t subindex,
                                      ByteSpan data, AlState state) {
   OdObject* obj = find(index);
   if (obj == nullptr) {
-    return code(SdoAbortCode::ObjectDoesNotExist);
+    return abort_code(SdoAbortCode::ObjectDoesNotExist);
   }
   if (complete_access) {
     return download_complete(*obj, subindex, data, state);
   }
   OdEntry* e = obj->entry(subindex);
   if (e == nullptr) {
-    return code(SdoAbortCode::SubindexDoesNotExist);
+    return abort_code(SdoAbortCode::SubindexDoesNotExist);
   }
   return download_entry(*obj, *e, data, state, true);
 }
@@ -231,7 +227,8 @@ AbortCode ObjectDictionary::write_local(std::uint16_t index, std::uint8_t subind
   OdObject* obj = find(index);
   OdEntry* e = obj == nullptr ? nullptr : obj->entry(subindex);
   if (e == nullptr) {
-    return obj == nullptr ? code(SdoAbortCode::ObjectDoesNotExist) : code(SdoAbortCode::SubindexDoesNotExist);
+    return obj == nullptr ? abort_code(SdoAbortCode::ObjectDoesNotExist)
+                          : abort_code(SdoAbortCode::SubindexDoesNotExist);
   }
   return download_entry(*obj, *e, data, AlState::PreOp, false);
 }
@@ -239,15 +236,15 @@ AbortCode ObjectDictionary::write_local(std::uint16_t index, std::uint8_t subind
 AbortCode ObjectDictionary::download_entry(OdObject& object, OdEntry& entry, ByteSpan data, AlState state,
                                            bool check_access) {
   if (check_access && !entry.writable(state)) {
-    return (entry.access & access::kWrite) == 0 ? code(SdoAbortCode::ReadOnly)
-                                                : code(SdoAbortCode::CannotTransferDeviceState);
+    return (entry.access & access::kWrite) == 0 ? abort_code(SdoAbortCode::ReadOnly)
+                                                : abort_code(SdoAbortCode::CannotTransferDeviceState);
   }
   if (entry.is_string()) {
     if (data.size() > entry.bit_length / 8U) {
-      return code(SdoAbortCode::LengthTooHigh);
+      return abort_code(SdoAbortCode::LengthTooHigh);
     }
   } else if (data.size() != entry.value.size()) {
-    return code(SdoAbortCode::LengthMismatch);
+    return abort_code(SdoAbortCode::LengthMismatch);
   }
   if (object.validator()) {
     if (AbortCode c = object.validator()(object, entry.subindex, data); c != 0) {
@@ -261,7 +258,7 @@ AbortCode ObjectDictionary::download_entry(OdObject& object, OdEntry& entry, Byt
 AbortCode ObjectDictionary::download_complete(OdObject& object, std::uint8_t subindex, ByteSpan data,
                                               AlState state) {
   if (object.code() == ObjectCode::Var || subindex > 1) {
-    return code(SdoAbortCode::UnsupportedAccess);
+    return abort_code(SdoAbortCode::UnsupportedAccess);
   }
   ByteReader r(data);
   std::uint8_t n = object.count();
@@ -270,10 +267,10 @@ AbortCode ObjectDictionary::download_complete(OdObject& object, std::uint8_t sub
     n = r.u8();
     r.skip(1);  // padding of subindex 0 to 16 bits
     if (sub0 == nullptr || !r.ok()) {
-      return code(SdoAbortCode::LengthTooLow);
+      return abort_code(SdoAbortCode::LengthTooLow);
     }
     if (n > object.max_subindex()) {
-      return code(SdoAbortCode::ValueTooHigh);
+      return abort_code(SdoAbortCode::ValueTooHigh);
     }
     // Like a client writing entry by entry: subindex 0 goes to 0 first, so
     // validators that guard the entries (PDO mapping) accept them.
@@ -287,14 +284,14 @@ AbortCode ObjectDictionary::download_complete(OdObject& object, std::uint8_t sub
     }
     ByteSpan value = r.bytes(e.is_string() ? r.remaining() : e.value.size());
     if (!r.ok()) {
-      return code(SdoAbortCode::LengthTooLow);
+      return abort_code(SdoAbortCode::LengthTooLow);
     }
     if (AbortCode c = download_entry(object, e, value, state, true); c != 0) {
       return c;
     }
   }
   if (!r.at_end()) {
-    return code(SdoAbortCode::LengthTooHigh);
+    return abort_code(SdoAbortCode::LengthTooHigh);
   }
   if (subindex == 0) {
     const std::uint8_t count_byte[1] = {n};

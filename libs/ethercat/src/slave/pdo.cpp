@@ -12,9 +12,6 @@ namespace {
 
 using detail::copy_bits;
 
-constexpr AbortCode code(SdoAbortCode c) {
-  return static_cast<AbortCode>(c);
-}
 constexpr std::size_t kMaxPdoBits = 8U * 1024U;  // largest PDO we accept (1 KiB)
 
 bool is_rx_mapping(std::uint16_t index) {
@@ -27,7 +24,7 @@ bool is_tx_mapping(std::uint16_t index) {
 // CiA 301 §7.5.2.36: entries may only change while subindex 0 is 0.
 AbortCode guard_entries(const OdObject& obj, std::uint8_t subindex) {
   if (subindex != 0 && obj.count() != 0) {
-    return code(SdoAbortCode::SubindexCannotBeWritten);
+    return abort_code(SdoAbortCode::SubindexCannotBeWritten);
   }
   return 0;
 }
@@ -41,7 +38,7 @@ AbortCode check_mapped(const ObjectDictionary& od, PdoEntryRef ref, bool rx, std
   const OdEntry* e = od.find(ref.index, ref.subindex);
   const std::uint16_t needed = rx ? access::kRxPdo : access::kTxPdo;
   if (e == nullptr || (e->access & needed) == 0 || e->bit_length != ref.bit_length) {
-    return code(SdoAbortCode::CannotBeMapped);
+    return abort_code(SdoAbortCode::CannotBeMapped);
   }
   return 0;
 }
@@ -58,19 +55,19 @@ AbortCode validate_mapping(const ObjectDictionary& od, const OdObject& obj, std:
   }
   const std::uint8_t n = data[0];
   if (n > obj.max_subindex()) {
-    return code(SdoAbortCode::ValueTooHigh);
+    return abort_code(SdoAbortCode::ValueTooHigh);
   }
   std::size_t bits = 0;
   for (std::uint8_t s = 1; s <= n; ++s) {
     const OdEntry* e = obj.entry(s);
     if (e == nullptr) {
-      return code(SdoAbortCode::CannotBeMapped);
+      return abort_code(SdoAbortCode::CannotBeMapped);
     }
     if (AbortCode c = check_mapped(od, PdoEntryRef::decode(e->get<std::uint32_t>()), rx, &bits); c != 0) {
       return c;
     }
   }
-  return bits > kMaxPdoBits ? code(SdoAbortCode::PdoLengthExceeded) : 0;
+  return bits > kMaxPdoBits ? abort_code(SdoAbortCode::PdoLengthExceeded) : 0;
 }
 
 AbortCode validate_assignment(const ObjectDictionary& od, const OdObject& obj, std::uint8_t subindex,
@@ -83,16 +80,16 @@ AbortCode validate_assignment(const ObjectDictionary& od, const OdObject& obj, s
     return (rx ? is_rx_mapping(pdo) : is_tx_mapping(pdo)) && od.find(pdo) != nullptr;
   };
   if (subindex != 0) {
-    return valid_pdo(load_le<std::uint16_t>(data.data())) ? 0 : code(SdoAbortCode::ValueRangeExceeded);
+    return valid_pdo(load_le<std::uint16_t>(data.data())) ? 0 : abort_code(SdoAbortCode::ValueRangeExceeded);
   }
   const std::uint8_t n = data[0];
   if (n > obj.max_subindex()) {
-    return code(SdoAbortCode::ValueTooHigh);
+    return abort_code(SdoAbortCode::ValueTooHigh);
   }
   for (std::uint8_t s = 1; s <= n; ++s) {
     const OdEntry* e = obj.entry(s);
     if (e == nullptr || !valid_pdo(e->get<std::uint16_t>())) {
-      return code(SdoAbortCode::ValueRangeExceeded);
+      return abort_code(SdoAbortCode::ValueRangeExceeded);
     }
   }
   return 0;

@@ -34,7 +34,8 @@ class VethNamespace {
     b_ = "sfb" + id;
     ok_ = run("ip netns add " + ns_) &&
           run("ip link add " + a_ + " netns " + ns_ + " type veth peer name " + b_ + " netns " + ns_) &&
-          run("ip -n " + ns_ + " link set " + a_ + " up") && run("ip -n " + ns_ + " link set " + b_ + " up");
+          run("ip -n " + ns_ + " link set " + a_ + " up") &&
+          run("ip -n " + ns_ + " link set " + b_ + " up") && carrier_up(a_) && carrier_up(b_);
   }
   ~VethNamespace() { run("ip netns del " + ns_); }
   VethNamespace(const VethNamespace&) = delete;
@@ -59,6 +60,18 @@ class VethNamespace {
   }
 
  private:
+  // A veth end reports its carrier some time after `link set up`, later on a loaded machine; a
+  // frame sent before that is dropped without an error, so the test waits for operstate UP.
+  [[nodiscard]] bool carrier_up(const std::string& dev) const {
+    for (int i = 0; i < 250; ++i) {
+      if (run("ip -n " + ns_ + " link show dev " + dev + " | grep -q 'state UP'")) {
+        return true;
+      }
+      std::this_thread::sleep_for(20ms);
+    }
+    return false;
+  }
+
   std::string ns_, a_, b_;
   bool ok_ = false;
 };

@@ -11,7 +11,7 @@ namespace {
 
 using testing::Harness;
 
-constexpr std::uint16_t code(AlStatusCode c) {
+constexpr std::uint16_t al_code(AlStatusCode c) {
   return static_cast<std::uint16_t>(c);
 }
 
@@ -28,7 +28,7 @@ TEST(AlState, PreOpNeedsAValidMailboxConfiguration) {
   auto s = h.request(0, AlState::PreOp);
   EXPECT_EQ(s, AlStatus::of(AlState::Init, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidMailboxConfiguration));
+            al_code(AlStatusCode::InvalidMailboxConfiguration));
   // Acknowledge with a correct configuration: PREOP, error gone.
   h.configure_mailbox(0);
   s = h.request(0, AlState::PreOp, true);
@@ -46,7 +46,7 @@ TEST(AlState, MailboxWithWrongDirectionOrTooSmallIsRefused) {
   h.write_sm(0, 0, 0x1000, 8, 0x26);  // too small for any CoE message
   EXPECT_EQ(h.request(0, AlState::PreOp, true), AlStatus::of(AlState::Init, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidMailboxConfiguration));
+            al_code(AlStatusCode::InvalidMailboxConfiguration));
 }
 
 TEST(AlState, InvalidAndUnknownRequestsGetTheirCodes) {
@@ -54,14 +54,14 @@ TEST(AlState, InvalidAndUnknownRequestsGetTheirCodes) {
   h.assign_stations();
   EXPECT_EQ(h.request(0, AlState::Op), AlStatus::of(AlState::Init, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidRequestedStateChange));
+            al_code(AlStatusCode::InvalidRequestedStateChange));
   EXPECT_EQ(h.request(0, AlState::SafeOp, true), AlStatus::of(AlState::Init, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidRequestedStateChange));
+            al_code(AlStatusCode::InvalidRequestedStateChange));
   // State 0x7 does not exist.
   h.fpwr_value<std::uint16_t>(Harness::station(0), reg::kAlControl, 0x0017);
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatus), 0x0011);
-  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), code(AlStatusCode::UnknownRequestedState));
+  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), al_code(AlStatusCode::UnknownRequestedState));
 }
 
 TEST(AlState, HigherStatesWaitForTheErrorAcknowledge) {
@@ -80,12 +80,12 @@ TEST(AlState, BootstrapOnlyWithAMailboxAndOnlyBackToInit) {
   Harness h("digital-io:1,servo:1");
   h.assign_stations();
   EXPECT_EQ(h.request(0, AlState::Bootstrap), AlStatus::of(AlState::Init, true));
-  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), code(AlStatusCode::BootstrapNotSupported));
+  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), al_code(AlStatusCode::BootstrapNotSupported));
   h.configure_mailbox(1);
   EXPECT_EQ(h.request(1, AlState::Bootstrap), AlStatus::of(AlState::Bootstrap));
   EXPECT_EQ(h.request(1, AlState::PreOp), AlStatus::of(AlState::Bootstrap, true));
   EXPECT_EQ(h.fprd16(Harness::station(1), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidRequestedStateChange));
+            al_code(AlStatusCode::InvalidRequestedStateChange));
   EXPECT_EQ(h.request(1, AlState::Init), AlStatus::of(AlState::Init, true));
   EXPECT_EQ(h.request(1, AlState::Init, true), AlStatus::of(AlState::Init));
 }
@@ -98,12 +98,13 @@ TEST(AlState, SafeOpChecksTheProcessDataSyncManagers) {
   // No process-data SyncManagers at all: invalid output configuration.
   EXPECT_EQ(h.request(0, AlState::SafeOp), AlStatus::of(AlState::PreOp, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidOutputConfiguration));
+            al_code(AlStatusCode::InvalidOutputConfiguration));
   // Outputs right (6 bytes), inputs one byte short.
   h.write_sm(0, 2, kOutputsStart, 6, 0x64);
   h.write_sm(0, 3, kInputsStart, 9, 0x20);
   EXPECT_EQ(h.request(0, AlState::SafeOp, true), AlStatus::of(AlState::PreOp, true));
-  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), code(AlStatusCode::InvalidInputConfiguration));
+  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
+            al_code(AlStatusCode::InvalidInputConfiguration));
   // Outputs SM in mailbox mode: invalid SyncManager configuration.
   h.write_sm(0, 2, kOutputsStart, 6, 0x64, false);
   h.write_sm(0, 2, kOutputsStart, 6, 0x66);
@@ -111,7 +112,7 @@ TEST(AlState, SafeOpChecksTheProcessDataSyncManagers) {
   h.write_sm(0, 3, kInputsStart, 10, 0x20);
   EXPECT_EQ(h.request(0, AlState::SafeOp, true), AlStatus::of(AlState::PreOp, true));
   EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode),
-            code(AlStatusCode::InvalidSyncManagerConfiguration));
+            al_code(AlStatusCode::InvalidSyncManagerConfiguration));
   h.write_sm(0, 2, kOutputsStart, 6, 0x64, false);
   h.write_sm(0, 2, kOutputsStart, 6, 0x64);
   EXPECT_EQ(h.request(0, AlState::SafeOp, true), AlStatus::of(AlState::SafeOp));
@@ -139,7 +140,7 @@ TEST(AlState, OpWaitsForTheFirstOutputsThenTimesOut) {
   h.clock.advance(std::chrono::milliseconds{101});
   EXPECT_EQ(AlStatus::decode(h.fprd16(Harness::station(0), reg::kAlStatus)),
             AlStatus::of(AlState::SafeOp, true));
-  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), code(AlStatusCode::SyncManagerWatchdog));
+  EXPECT_EQ(h.fprd16(Harness::station(0), reg::kAlStatusCode), al_code(AlStatusCode::SyncManagerWatchdog));
 }
 
 TEST(AlState, ProcessDataIsDeniedBeforeSafeOp) {
@@ -226,7 +227,7 @@ TEST(AlState, WatchdogTripsWhenOutputsStopInOp) {
   for (std::size_t p = 0; p < 2; ++p) {
     EXPECT_EQ(AlStatus::decode(h.fprd16(Harness::station(p), reg::kAlStatus)),
               AlStatus::of(AlState::SafeOp, true));
-    EXPECT_EQ(h.fprd16(Harness::station(p), reg::kAlStatusCode), code(AlStatusCode::SyncManagerWatchdog));
+    EXPECT_EQ(h.fprd16(Harness::station(p), reg::kAlStatusCode), al_code(AlStatusCode::SyncManagerWatchdog));
     EXPECT_EQ(h.fprd16(Harness::station(p), reg::kWatchdogStatusProcessData) & 1, 0);
     EXPECT_EQ(h.fprd(Harness::station(p), reg::kWatchdogCounterProcessData, 1).data[0], 1);
   }

@@ -18,7 +18,7 @@ namespace {
 
 using testing::Harness;
 
-constexpr std::uint32_t code(SdoAbortCode c) {
+constexpr std::uint32_t sdo_code(SdoAbortCode c) {
   return static_cast<std::uint32_t>(c);
 }
 
@@ -173,22 +173,23 @@ TEST_F(SdoTest, SegmentedTransfersBothWays) {
 }
 
 TEST_F(SdoTest, AbortsForMissingReadOnlyAndWrongLength) {
-  EXPECT_EQ(std::get<std::uint32_t>(upload(0x2345, 0)), code(SdoAbortCode::ObjectDoesNotExist));
-  EXPECT_EQ(std::get<std::uint32_t>(upload(0x1018, 9)), code(SdoAbortCode::SubindexDoesNotExist));
-  EXPECT_EQ(download(0x1018, 1, Harness::le<std::uint32_t>(1)), code(SdoAbortCode::ReadOnly));
-  EXPECT_EQ(download(0x6065, 0, Harness::le<std::uint16_t>(1)), code(SdoAbortCode::LengthMismatch));
-  EXPECT_EQ(download(0x6060, 0, Bytes{3}), code(SdoAbortCode::ValueRangeExceeded));  // only CSP
+  EXPECT_EQ(std::get<std::uint32_t>(upload(0x2345, 0)), sdo_code(SdoAbortCode::ObjectDoesNotExist));
+  EXPECT_EQ(std::get<std::uint32_t>(upload(0x1018, 9)), sdo_code(SdoAbortCode::SubindexDoesNotExist));
+  EXPECT_EQ(download(0x1018, 1, Harness::le<std::uint32_t>(1)), sdo_code(SdoAbortCode::ReadOnly));
+  EXPECT_EQ(download(0x6065, 0, Harness::le<std::uint16_t>(1)), sdo_code(SdoAbortCode::LengthMismatch));
+  EXPECT_EQ(download(0x6060, 0, Bytes{3}), sdo_code(SdoAbortCode::ValueRangeExceeded));  // only CSP
 }
 
 TEST_F(SdoTest, MappingIsWritableInPreOpOnlyAndFollowsTheSubindexZeroRule) {
   // Entries may only change while subindex 0 is 0.
   EXPECT_EQ(download(0x1A00, 3, Harness::le<std::uint32_t>(0x606C0020)),
-            code(SdoAbortCode::SubindexCannotBeWritten));
+            sdo_code(SdoAbortCode::SubindexCannotBeWritten));
   EXPECT_EQ(download(0x1A00, 0, Bytes{0}), 0u);
   EXPECT_EQ(download(0x1A00, 1, Harness::le<std::uint32_t>(0x60410010)), 0u);
   EXPECT_EQ(download(0x1A00, 2, Harness::le<std::uint32_t>(0x60640020)), 0u);
   // 0x6040 is an RxPDO object: it cannot go into a TxPDO.
-  EXPECT_EQ(download(0x1A00, 3, Harness::le<std::uint32_t>(0x60400010)), code(SdoAbortCode::CannotBeMapped));
+  EXPECT_EQ(download(0x1A00, 3, Harness::le<std::uint32_t>(0x60400010)),
+            sdo_code(SdoAbortCode::CannotBeMapped));
   EXPECT_EQ(download(0x1A00, 3, Harness::le<std::uint32_t>(0x60F40020)), 0u);  // following error actual
   EXPECT_EQ(download(0x1A00, 0, Bytes{3}), 0u);
   // Going to SAFEOP with the new 10-byte TxPDO and reading it back via complete access.
@@ -201,7 +202,7 @@ TEST_F(SdoTest, MappingIsWritableInPreOpOnlyAndFollowsTheSubindexZeroRule) {
   h.write_sm(0, 2, kOutputsStart, 6, 0x64);
   h.write_sm(0, 3, kInputsStart, 10, 0x20);
   ASSERT_EQ(h.request(0, AlState::SafeOp), AlStatus::of(AlState::SafeOp));
-  EXPECT_EQ(download(0x1A00, 0, Bytes{0}), code(SdoAbortCode::CannotTransferDeviceState));
+  EXPECT_EQ(download(0x1A00, 0, Bytes{0}), sdo_code(SdoAbortCode::CannotTransferDeviceState));
 }
 
 TEST_F(SdoTest, CompleteAccessDownloadOfTheAssignment) {
@@ -212,7 +213,7 @@ TEST_F(SdoTest, CompleteAccessDownloadOfTheAssignment) {
   ASSERT_TRUE(std::holds_alternative<Bytes>(back));
   EXPECT_EQ(std::get<Bytes>(back), (Bytes{1, 0, 0x00, 0x1A}));
   // A PDO index outside the TxPDO range is refused.
-  EXPECT_EQ(download(0x1C13, 0, Bytes{1, 0, 0x00, 0x16}, true), code(SdoAbortCode::ValueRangeExceeded));
+  EXPECT_EQ(download(0x1C13, 0, Bytes{1, 0, 0x00, 0x16}, true), sdo_code(SdoAbortCode::ValueRangeExceeded));
 }
 
 TEST_F(SdoTest, SegmentToggleErrorAbortsTheTransfer) {
@@ -227,10 +228,10 @@ TEST_F(SdoTest, SegmentToggleErrorAbortsTheTransfer) {
   seg.data = Bytes(10, 'y');
   auto r = exchange(seg);
   ASSERT_TRUE(std::holds_alternative<SdoAbort>(r));
-  EXPECT_EQ(std::get<SdoAbort>(r).code, code(SdoAbortCode::ToggleBitNotChanged));
+  EXPECT_EQ(std::get<SdoAbort>(r).code, sdo_code(SdoAbortCode::ToggleBitNotChanged));
   // A segment without a transfer in progress.
   r = exchange(SdoUploadSegmentRequest{false});
-  EXPECT_EQ(std::get<SdoAbort>(r).code, code(SdoAbortCode::InvalidCommandSpecifier));
+  EXPECT_EQ(std::get<SdoAbort>(r).code, sdo_code(SdoAbortCode::InvalidCommandSpecifier));
 }
 
 TEST_F(SdoTest, UnsupportedProtocolsGetAMailboxError) {
@@ -404,13 +405,13 @@ TEST_F(SdoTest, SdoInfoErrorsCarryAnAbortCode) {
       return 0;
     return std::get<SdoInfoError>(*m).code;
   };
-  EXPECT_EQ(error_of(ObjectDescriptionRequest{0x5555}), code(SdoAbortCode::ObjectDoesNotExist));
-  EXPECT_EQ(error_of(EntryDescriptionRequest{0x1018, 9, 0}), code(SdoAbortCode::SubindexDoesNotExist));
-  EXPECT_EQ(error_of(OdListRequest{static_cast<OdListType>(6)}), code(SdoAbortCode::UnsupportedAccess));
+  EXPECT_EQ(error_of(ObjectDescriptionRequest{0x5555}), sdo_code(SdoAbortCode::ObjectDoesNotExist));
+  EXPECT_EQ(error_of(EntryDescriptionRequest{0x1018, 9, 0}), sdo_code(SdoAbortCode::SubindexDoesNotExist));
+  EXPECT_EQ(error_of(OdListRequest{static_cast<OdListType>(6)}), sdo_code(SdoAbortCode::UnsupportedAccess));
   // A response or error opcode from the client, or an opcode that does not
   // exist: "command specifier not valid", not a mailbox error.
-  EXPECT_EQ(error_of(SdoInfoError{0}), code(SdoAbortCode::InvalidCommandSpecifier));
-  EXPECT_EQ(error_of(OdListResponse{}), code(SdoAbortCode::InvalidCommandSpecifier));
+  EXPECT_EQ(error_of(SdoInfoError{0}), sdo_code(SdoAbortCode::InvalidCommandSpecifier));
+  EXPECT_EQ(error_of(OdListResponse{}), sdo_code(SdoAbortCode::InvalidCommandSpecifier));
   const Bytes unknown{0x0F, 0x00, 0x00, 0x00, 0x00, 0x00};
   ASSERT_EQ(
       send(encode_coe(MailboxHeader{0, 0, 0, 0, MailboxType::CoE, counter_ = next_mailbox_counter(counter_)},
@@ -421,7 +422,7 @@ TEST_F(SdoTest, SdoInfoErrorsCarryAnAbortCode) {
   auto coe = decode_coe(*reply);
   ASSERT_TRUE(coe.ok());
   EXPECT_EQ(coe->body[0], 7) << "SDO Info Error request";
-  EXPECT_EQ(load_le<std::uint32_t>(coe->body.data() + 4), code(SdoAbortCode::InvalidCommandSpecifier));
+  EXPECT_EQ(load_le<std::uint32_t>(coe->body.data() + 4), sdo_code(SdoAbortCode::InvalidCommandSpecifier));
 }
 
 TEST_F(SdoTest, SdoInfoFragmentsComeOneAfterTheOther) {

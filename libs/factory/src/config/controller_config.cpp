@@ -11,9 +11,6 @@ namespace {
 
 using config::Node;
 
-constexpr double kMs = 1.0;
-constexpr double kSeconds = 1000.0;
-
 Status parse_dds(const Node& n, DdsOptions& d) {
   SF_TRY(n.only_keys({"machining_domain", "conveying_domain", "interface", "partition", "lease_ms"}));
   for (auto [key, domain] :
@@ -31,7 +28,7 @@ Status parse_dds(const Node& n, DdsOptions& d) {
       return n.child(key)->error(fmt::format("{} must not be empty", key));
     }
   }
-  SF_TRY(read_duration(n, "lease_ms", kMs, d.lease));
+  SF_TRY(read_duration(n, "lease_ms", kDurationMs, d.lease));
   if (d.lease < std::chrono::milliseconds{50}) {
     return n.child("lease_ms")->error("a lease shorter than 50 ms would declare a busy controller dead");
   }
@@ -106,7 +103,7 @@ Status parse_controller_settings(const Node& root, ControllerSettings& s, const 
     return root.child("start")->error(fmt::format("start is stopped or execute, not '{}'", start));
   }
   s.auto_start = start == "execute";
-  SF_TRY(read_duration(root, "job_timeout_s", kSeconds, s.job_timeout));
+  SF_TRY(read_duration(root, "job_timeout_s", kDurationSeconds, s.job_timeout));
   if (root.has("opcua")) {
     SF_TRY(parse_opcua(*root.child("opcua"), s, base));
   }

@@ -39,7 +39,7 @@ Status parse_pick_place(const Node& n, PickPlace& p) {
   return read_duration(n, "release_timeout_ms", 1.0, p.release_timeout);
 }
 
-Result<MachineSetup> parse(const Node& root, const std::filesystem::path& base) {
+Result<MachineSetup> parse_machine(const Node& root, const std::filesystem::path& base) {
   SF_TRY(root.only_keys({"machine", "layout", "serial_number", "start", "job_timeout_s", "opcua", "dds",
                          "ethercat", "pick_place"}));
   MachineSetup setup;
@@ -74,7 +74,7 @@ Result<MachineSetup> load_machine_config(const std::filesystem::path& file) {
   if (!root) {
     return root.error();
   }
-  return parse(*root, file.parent_path());
+  return parse_machine(*root, file.parent_path());
 }
 
 Result<MachineSetup> parse_machine_config(std::string_view yaml, std::string name,
@@ -83,7 +83,7 @@ Result<MachineSetup> parse_machine_config(std::string_view yaml, std::string nam
   if (!root) {
     return root.error();
   }
-  return parse(*root, base);
+  return parse_machine(*root, base);
 }
 
 SmartRobotConfig smart_robot_config(const MachineConfig& config) {

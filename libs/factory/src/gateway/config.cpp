@@ -14,9 +14,6 @@ using config::Node;
 constexpr GatewayKind kKinds[] = {GatewayKind::conveyor, GatewayKind::uploader, GatewayKind::downloader,
                                   GatewayKind::legacy_robot};
 
-constexpr double kMs = 1.0;
-constexpr double kSeconds = 1000.0;
-
 Status parse_modbus(const Node& n, ModbusEndpoint& m) {
   SF_TRY(n.only_keys({"host", "port", "unit_id", "timeout_ms", "poll_period_ms", "stale_after_ms"}));
   SF_TRY(n.read("host", m.host));
@@ -25,9 +22,9 @@ Status parse_modbus(const Node& n, ModbusEndpoint& m) {
   }
   SF_TRY(n.read("port", m.port));
   SF_TRY(n.read("unit_id", m.unit_id));
-  SF_TRY(read_duration(n, "timeout_ms", kMs, m.timeout));
-  SF_TRY(read_duration(n, "poll_period_ms", kMs, m.poll_period));
-  SF_TRY(read_duration(n, "stale_after_ms", kMs, m.stale_after));
+  SF_TRY(read_duration(n, "timeout_ms", kDurationMs, m.timeout));
+  SF_TRY(read_duration(n, "poll_period_ms", kDurationMs, m.poll_period));
+  SF_TRY(read_duration(n, "stale_after_ms", kDurationMs, m.stale_after));
   return {};
 }
 
@@ -42,7 +39,7 @@ Status parse_robot(const Node& n, RobotProgram& r) {
       return n.child(key)->error("expected 0..2 m");
     }
   }
-  return read_duration(n, "grip_s", kSeconds, r.grip);
+  return read_duration(n, "grip_s", kDurationSeconds, r.grip);
 }
 
 Result<GatewayKind> parse_kind(const Node& n) {
@@ -129,7 +126,7 @@ Status check_station(const Node& root, const GatewayConfig& c, const line::Layou
   return {};
 }
 
-Result<GatewaySetup> parse(const Node& root, const std::filesystem::path& base) {
+Result<GatewaySetup> parse_gateway(const Node& root, const std::filesystem::path& base) {
   GatewaySetup setup;
   SF_TRY(parse_root(root, setup.config, base));
   auto layout = load_settings_layout(root, setup.config.controller, base);
@@ -163,7 +160,7 @@ Result<GatewaySetup> load_gateway_config(const std::filesystem::path& file) {
   if (!root) {
     return root.error();
   }
-  return parse(*root, file.parent_path());
+  return parse_gateway(*root, file.parent_path());
 }
 
 Result<GatewaySetup> parse_gateway_config(std::string_view yaml, std::string name,
@@ -172,7 +169,7 @@ Result<GatewaySetup> parse_gateway_config(std::string_view yaml, std::string nam
   if (!root) {
     return root.error();
   }
-  return parse(*root, base);
+  return parse_gateway(*root, base);
 }
 
 }  // namespace sf::factory

@@ -13,7 +13,7 @@
 namespace sf::knowledge {
 namespace {
 
-const uint8_t* u8(const char* s) {
+const uint8_t* serd_bytes(const char* s) {
   return reinterpret_cast<const uint8_t*>(s);
 }
 
@@ -29,7 +29,7 @@ struct NodeText {
 
   void set(SerdType type, std::string value) {
     text = std::move(value);
-    node = serd_node_from_substring(type, u8(text.c_str()), text.size());
+    node = serd_node_from_substring(type, serd_bytes(text.c_str()), text.size());
   }
 };
 
@@ -88,8 +88,8 @@ Status write_rdf(std::ostream& out, const Dictionary& dict, const std::vector<Tr
       serd_writer_free);
   if (turtle) {
     for (const auto& [name, ns] : prefixes) {
-      const SerdNode n = serd_node_from_string(SERD_LITERAL, u8(name.c_str()));
-      const SerdNode u = serd_node_from_string(SERD_URI, u8(ns.c_str()));
+      const SerdNode n = serd_node_from_string(SERD_LITERAL, serd_bytes(name.c_str()));
+      const SerdNode u = serd_node_from_string(SERD_URI, serd_bytes(ns.c_str()));
       serd_writer_set_prefix(writer.get(), &n, &u);
     }
   }

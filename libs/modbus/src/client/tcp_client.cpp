@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "address.hpp"
+
 namespace sf::modbus {
 
 void TcpClient::ContextFree::operator()(_modbus* ctx) const {
@@ -19,10 +21,7 @@ void TcpClient::ContextFree::operator()(_modbus* ctx) const {
 
 namespace {
 
-bool is_ipv4(const std::string& host) {
-  in_addr addr{};
-  return ::inet_pton(AF_INET, host.c_str(), &addr) == 1;
-}
+using detail::is_ipv4;
 
 // The plain IPv4 back end takes dotted quads only; the protocol-independent one resolves names
 // and IPv6 addresses.

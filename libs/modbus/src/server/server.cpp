@@ -18,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "address.hpp"
 #include "request_path.hpp"
 #include "server/socket.hpp"
 #include "sf/core/log.hpp"
@@ -63,15 +64,8 @@ struct ContextFree {
 };
 using Context = std::unique_ptr<modbus_t, ContextFree>;
 
-bool is_ipv4(const std::string& host) {
-  in_addr a{};
-  return ::inet_pton(AF_INET, host.c_str(), &a) == 1;
-}
-
-bool is_ipv6(const std::string& host) {
-  in6_addr a{};
-  return ::inet_pton(AF_INET6, host.c_str(), &a) == 1;
-}
+using detail::is_ipv4;
+using detail::is_ipv6;
 
 // A libmodbus TCP context whose listening socket libmodbus opens (SO_REUSEADDR, bind, listen);
 // the same context then answers every connection through modbus_set_socket.

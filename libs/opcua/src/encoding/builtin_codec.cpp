@@ -249,20 +249,20 @@ void decode_binary(Decoder& d, QualifiedName& v) {
 }
 
 namespace {
-constexpr std::uint8_t kHasLocale = 0x01;
+constexpr std::uint8_t kTextHasLocale = 0x01;
 constexpr std::uint8_t kHasText = 0x02;
 }  // namespace
 
 void encode_binary(Encoder& e, const LocalizedText& v) {
   std::uint8_t mask = 0;
   if (!v.locale.is_null()) {
-    mask |= kHasLocale;
+    mask |= kTextHasLocale;
   }
   if (!v.text.is_null()) {
     mask |= kHasText;
   }
   e.writer().u8(mask);
-  if ((mask & kHasLocale) != 0) {
+  if ((mask & kTextHasLocale) != 0) {
     encode_binary(e, v.locale);
   }
   if ((mask & kHasText) != 0) {
@@ -275,12 +275,12 @@ void decode_binary(Decoder& d, LocalizedText& v) {
   if (!d.ok()) {
     return;
   }
-  if ((mask & ~(kHasLocale | kHasText)) != 0) {
+  if ((mask & ~(kTextHasLocale | kHasText)) != 0) {
     d.fail(status::BadDecodingError,
            fmt::format("LocalizedText encoding mask 0x{:02x} has unknown bits", mask));
     return;
   }
-  if ((mask & kHasLocale) != 0) {
+  if ((mask & kTextHasLocale) != 0) {
     decode_binary(d, v.locale);
   } else {
     v.locale.set_null();

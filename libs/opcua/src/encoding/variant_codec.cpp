@@ -304,7 +304,7 @@ namespace {
 constexpr std::uint8_t kHasSymbolicId = 0x01;
 constexpr std::uint8_t kHasNamespaceUri = 0x02;
 constexpr std::uint8_t kHasLocalizedText = 0x04;
-constexpr std::uint8_t kHasLocale = 0x08;
+constexpr std::uint8_t kDiagnosticHasLocale = 0x08;
 constexpr std::uint8_t kHasAdditionalInfo = 0x10;
 constexpr std::uint8_t kHasInnerStatusCode = 0x20;
 constexpr std::uint8_t kHasInnerDiagnosticInfo = 0x40;
@@ -321,7 +321,7 @@ std::uint8_t diagnostic_info_mask(const DiagnosticInfo& v) {
     mask |= kHasLocalizedText;
   }
   if (v.locale != -1) {
-    mask |= kHasLocale;
+    mask |= kDiagnosticHasLocale;
   }
   if (!v.additional_info.is_null()) {
     mask |= kHasAdditionalInfo;
@@ -351,7 +351,7 @@ void encode_binary(Encoder& e, const DiagnosticInfo& v) {
   if ((mask & kHasNamespaceUri) != 0) {
     w.i32(v.namespace_uri);
   }
-  if ((mask & kHasLocale) != 0) {
+  if ((mask & kDiagnosticHasLocale) != 0) {
     w.i32(v.locale);
   }
   if ((mask & kHasLocalizedText) != 0) {
@@ -385,7 +385,7 @@ void decode_binary(Decoder& d, DiagnosticInfo& v) {
   }
   v.symbolic_id = (mask & kHasSymbolicId) != 0 ? r.i32() : -1;
   v.namespace_uri = (mask & kHasNamespaceUri) != 0 ? r.i32() : -1;
-  v.locale = (mask & kHasLocale) != 0 ? r.i32() : -1;
+  v.locale = (mask & kDiagnosticHasLocale) != 0 ? r.i32() : -1;
   v.localized_text = (mask & kHasLocalizedText) != 0 ? r.i32() : -1;
   if ((mask & kHasAdditionalInfo) != 0) {
     decode_binary(d, v.additional_info);

@@ -9,14 +9,12 @@
 #include "channel_timer.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "transport/transport_log.hpp"
 
 namespace sf::opcua {
 namespace {
 
-const sf::log::Logger& logger() {
-  static const auto log = sf::log::get("opcua");
-  return log;
-}
+using detail::logger;
 
 constexpr std::uint16_t kDefaultPort = 4840;
 

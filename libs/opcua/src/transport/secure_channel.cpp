@@ -9,14 +9,12 @@
 #include "sf/core/log.hpp"
 #include "sf/opcua/binary.hpp"
 #include "sf/opcua/status_codes.hpp"
+#include "transport/transport_log.hpp"
 
 namespace sf::opcua {
 namespace {
 
-const sf::log::Logger& logger() {
-  static const auto log = sf::log::get("opcua");
-  return log;
-}
+using detail::logger;
 
 // Consumed input is dropped once it is this large and more than half the buffer.
 constexpr std::size_t kCompactThreshold = 64U * 1024U;

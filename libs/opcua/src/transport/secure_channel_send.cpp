@@ -9,14 +9,12 @@
 #include "sf/opcua/binary.hpp"
 #include "sf/opcua/status_codes.hpp"
 #include "sf/opcua/transport/secure_channel.hpp"
+#include "transport/transport_log.hpp"
 
 namespace sf::opcua {
 namespace {
 
-const sf::log::Logger& logger() {
-  static const auto log = sf::log::get("opcua");
-  return log;
-}
+using detail::logger;
 
 std::chrono::milliseconds lifetime_of(const ChannelSecurityToken& token) {
   return std::chrono::milliseconds{token.revised_lifetime};

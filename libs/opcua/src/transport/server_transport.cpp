@@ -11,14 +11,12 @@
 #include "sf/net/tcp.hpp"
 #include "sf/opcua/status_codes.hpp"
 #include "sf/opcua/transport/secure_channel.hpp"
+#include "transport/transport_log.hpp"
 
 namespace sf::opcua {
 namespace {
 
-const sf::log::Logger& logger() {
-  static const auto log = sf::log::get("opcua");
-  return log;
-}
+using detail::logger;
 
 class ServerConnection;
 

@@ -21,4 +21,7 @@ std::string_view trim(std::string_view text);
 // The value of a hexadecimal digit (0-9, a-f, A-F), -1 for any other character.
 int hex_value(char c);
 
+// The message of an errno value. strerror() is not thread-safe; the error category's message is.
+std::string errno_text(int err);
+
 }  // namespace sf

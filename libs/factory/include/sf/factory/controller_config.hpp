@@ -72,8 +72,10 @@ Status parse_controller_settings(const config::Node& root, ControllerSettings& s
 // The layout the settings name, relative to `base`; errors point at the `layout` key.
 Result<line::Layout> load_settings_layout(const config::Node& root, const ControllerSettings& settings,
                                           const std::filesystem::path& base);
-// A duration key in units of `unit_ms` milliseconds (1 for "_ms" keys, 1000 for "_s"),
-// 1 ms up to 11 days.
+// A duration key in units of `unit_ms` milliseconds (kDurationMs for "_ms" keys, kDurationSeconds
+// for "_s"), 1 ms up to 11 days.
+inline constexpr double kDurationMs = 1.0;
+inline constexpr double kDurationSeconds = 1000.0;
 Status read_duration(const config::Node& n, std::string_view key, double unit_ms,
                      std::chrono::milliseconds& out);
 

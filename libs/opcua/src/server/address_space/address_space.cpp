@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "server/address_space/service_util.hpp"
 #include "sf/core/log.hpp"
 #include "sf/opcua/status_codes.hpp"
 
@@ -17,9 +18,7 @@ constexpr std::uint32_t kFirstFreeNs0Id = 1'000'000;
 // Type hierarchies deeper than this are treated as cycles.
 constexpr int kMaxTypeDepth = 64;
 
-NodeId ns0(std::uint32_t id) {
-  return NodeId(0, id);
-}
+using detail::ns0;
 
 Error rejected(StatusCode code, const std::string& what) {
   sf::log::get("opcua")->debug("address space: {}: {}", to_string(code), what);

@@ -11,9 +11,7 @@ namespace {
 
 using detail::logger;
 
-NodeId ns0(std::uint32_t id) {
-  return NodeId(0, id);
-}
+using detail::ns0;
 
 // A HasComponent (or subtype) reference from holder to method.
 bool has_component(const AddressSpace& space, const NodeId& holder, const NodeId& method) {

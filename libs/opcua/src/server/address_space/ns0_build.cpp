@@ -67,7 +67,7 @@ T number(std::string_view text) {
   return value;
 }
 
-Array<ExtensionObject> arguments(std::string_view text) {
+Array<ExtensionObject> argument_list(std::string_view text) {
   Array<ExtensionObject> out;
   for (auto item : split(text, '|')) {
     const auto fields = split(item, ':');
@@ -129,7 +129,7 @@ Variant literal(Ns0Value kind, std::string_view text) {
       return Variant(std::move(out));
     }
     case Ns0Value::Arguments:
-      return Variant(arguments(text));
+      return Variant(argument_list(text));
   }
   return {};
 }

@@ -19,6 +19,11 @@ inline DateTime now(const ServiceContext& ctx) {
   return DateTime::from_system_clock(clock_of(ctx).utc_now());
 }
 
+// A NodeId of namespace 0 (the standard's nodes, node_ids.hpp).
+inline NodeId ns0(std::uint32_t id) {
+  return NodeId(0, id);
+}
+
 inline sf::log::Logger& logger() {
   static sf::log::Logger log = sf::log::get("opcua");
   return log;

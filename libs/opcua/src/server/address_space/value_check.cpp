@@ -6,9 +6,7 @@ namespace sf::opcua::server::detail {
 
 namespace {
 
-NodeId ns0(std::uint32_t id) {
-  return NodeId(0, id);
-}
+using detail::ns0;
 
 // The DataType of a structure value: its encoding's inverse HasEncoding (OPC 10000-3 §5.8.4).
 const NodeId* structure_type(const AddressSpace& space, const Variant& value) {

@@ -17,13 +17,13 @@ namespace {
 
 constexpr std::size_t kMinClientNonce = 32;
 
-bool is_none(std::string_view policy_uri) {
+bool policy_is_none(std::string_view policy_uri) {
   return policy_uri.empty() || policy_uri == kSecurityPolicyNoneUri;
 }
 
 std::string policy_of(const ChannelInfo& channel) {
-  return is_none(channel.security_policy_uri) ? std::string(kSecurityPolicyNoneUri)
-                                              : channel.security_policy_uri;
+  return policy_is_none(channel.security_policy_uri) ? std::string(kSecurityPolicyNoneUri)
+                                                     : channel.security_policy_uri;
 }
 
 Bytes concat(const ByteString& a, const ByteString& b) {
@@ -76,7 +76,7 @@ Result<SessionIdentity> user_name(const ServerSecurity& security,
   }
   const std::string protect = token_policy(*policy, channel);
   Bytes password;
-  if (is_none(protect)) {
+  if (policy_is_none(protect)) {
     // Only over an encrypted channel may a password travel without its own encryption.
     if (channel.security_mode != MessageSecurityMode::SignAndEncrypt) {
       return status_error(status::BadIdentityTokenRejected,
@@ -123,7 +123,7 @@ Result<SessionIdentity> certificate(const ServerSecurity& security,
                         "certificate tokens are not accepted on this endpoint");
   }
   const std::string protect = token_policy(*policy, channel);
-  if (is_none(protect)) {
+  if (policy_is_none(protect)) {
     return status_error(status::BadIdentityTokenRejected, "a certificate token needs a security policy");
   }
   // §7.40.5: the user proves the key with a signature over serverCertificate + serverNonce.
@@ -203,7 +203,7 @@ Status secure_create_session(const ServerSecurity& security, const ChannelInfo& 
   if (!security.credentials.certificate.empty()) {
     response.server_certificate = security.credentials.certificate;
   }
-  if (is_none(session.security_policy_uri)) {
+  if (policy_is_none(session.security_policy_uri)) {
     return {};
   }
   auto requested = sec::leaf_certificate(request.client_certificate.span());
@@ -233,7 +233,7 @@ Result<SessionIdentity> authenticate_activation(const ServerSecurity& security, 
     return status_error(status::BadSecurityPolicyRejected,
                         "ActivateSession over a channel with other security than the session's");
   }
-  if (!is_none(session.security_policy_uri)) {
+  if (!policy_is_none(session.security_policy_uri)) {
     // The client proves it holds the key of the certificate the session was created with.
     const Bytes data = concat(security.credentials.certificate, session.server_nonce);
     if (auto st = sec::verify(session.security_policy_uri, session.client_certificate, data,

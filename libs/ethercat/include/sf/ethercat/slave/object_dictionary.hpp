@@ -18,6 +18,7 @@
 
 #include "sf/core/bytes.hpp"
 #include "sf/ethercat/registers.hpp"
+#include "sf/ethercat/sdo_abort_codes.hpp"
 
 namespace sf::ethercat::slave {
 
@@ -130,6 +131,11 @@ class OdObject {
 
 // Result of an SDO-level access: 0 or an SDO abort code (sdo_abort_codes.hpp).
 using AbortCode = std::uint32_t;
+
+// The wire value of an SDO abort code (ETG.1000.6 5.6.2.7, Table 41).
+constexpr AbortCode abort_code(SdoAbortCode c) {
+  return static_cast<AbortCode>(c);
+}
 
 class ObjectDictionary {
  public:

@@ -110,10 +110,18 @@ def check(condition, message):
     print(f"ok: {message}", flush=True)
 
 
+_last_echoed = None
+
+
 def run(args, timeout=60, ns=None, check_rc=True):
-    """Runs a command (optionally inside a namespace) and returns CompletedProcess."""
+    """Runs a command (optionally inside a namespace) and returns CompletedProcess. The command is
+    echoed, but not again when it repeats the one before (a poll): a failing test's output then
+    shows its steps, not hundreds of the same poll."""
+    global _last_echoed
     cmd = (["ip", "netns", "exec", ns] if ns else []) + list(args)
-    print("$ " + " ".join(cmd), flush=True)
+    if cmd != _last_echoed:
+        print("$ " + " ".join(cmd), flush=True)
+        _last_echoed = cmd
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     if check_rc and proc.returncode != 0:
         fail(f"{' '.join(cmd)} exited {proc.returncode}\nstdout:\n{proc.stdout}\nstderr:\n{proc.stderr}")

@@ -21,11 +21,11 @@
 #include <nlohmann/json.hpp>
 
 #include "pg_server.hpp"
+#include "sf/bench/users.hpp"
 #include "sf/cloud/gateway.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/dashboard/dashboard.hpp"
 #include "sf/historian/store.hpp"
-#include "sf/opcua/security/users.hpp"
 #include "sf/web/testing/client.hpp"
 
 namespace {
@@ -108,14 +108,6 @@ hist::SeriesId fill(const std::string& url, std::size_t samples) {
     }
   }
   return *id;
-}
-
-void write_users(const fs::path& file) {
-  sf::opcua::security::UserDatabase users;
-  auto hash = sf::opcua::security::hash_password("secret", {10, 8, 1});
-  if (!hash || !users.put({"viewer", *hash, {}, {"viewer"}}) || !users.save(file)) {
-    fail("cannot write the users file");
-  }
 }
 
 // The equivalent of the store's aggregate query on float64 rows (sqlite_store.cpp, pg_store.cpp).
@@ -238,7 +230,9 @@ int main(int argc, char** argv) {
   }
   const fs::path dir = fs::temp_directory_path() / fmt::format("bench_web_history.{}", ::getpid());
   fs::create_directories(dir);
-  write_users(dir / "users.yaml");
+  if (!sf::bench::write_users(dir / "users.yaml", "viewer", "secret", "viewer")) {
+    fail("cannot write the users file");
+  }
   std::cout << fmt::format("{} samples of one series → {} points, median of {} rounds (ms)\n", o.samples,
                            o.points, o.repeats);
   std::cout << fmt::format("{:<10} {:>9} {:>9} {:>6}  {:<8} {:>9} {:>6}\n", "backend", "API", "store",

@@ -1,6 +1,5 @@
 // The line benchmark's run (line.hpp): `smartfactory line` as a child process, the orders fed to it,
 // the order service's events followed in its log, ddsperf next to it.
-#include <csignal>
 #include <fstream>
 #include <set>
 
@@ -9,6 +8,7 @@
 
 #include "sf/bench/cnp.hpp"
 #include "sf/bench/line.hpp"
+#include "sf/bench/running_line.hpp"
 #include "sf/core/clock.hpp"
 #include "sf/core/process.hpp"
 
@@ -20,28 +20,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr auto kPollInterval = 100ms;
-constexpr auto kReadyLimit = 180s;  // the whole line up: plant, ten controllers, order service
-constexpr int kStartAttempts = 3;
 
-// What the line's ready line says of its order service.
-struct OrderService {
-  fs::path log;
-  std::string endpoint;
-};
-
-std::optional<OrderService> order_service_of(const std::string& line) {
-  const auto j = json::parse(line, nullptr, false);
-  if (j.is_discarded() || !j.is_object() || j.value("event", "") != "ready" || !j.contains("processes")) {
-    return std::nullopt;
-  }
-  for (const auto& p : j["processes"]) {
-    if (p.value("name", "") == "orders") {
-      return OrderService{p.value("log", ""), p.value("opcua", "")};
-    }
-  }
-  return std::nullopt;
-}
-
+// The order service's own ready line (it started, or started again).
 bool is_ready_line(const std::string& line) {
   const auto j = json::parse(line, nullptr, false);
   return !j.is_discarded() && j.is_object() && j.value("event", "") == "ready";
@@ -75,7 +55,7 @@ class LineBench {
     }
     compare_with_ddsperf(result);
     report("stopping the line");
-    line_.terminate(120s);
+    line_.stop();
     return result;
   }
 
@@ -86,69 +66,30 @@ class LineBench {
     }
   }
 
-  // The line, up; a start that fails (a controller that did not come up on a loaded host) is tried
-  // again, in a fresh run directory.
+  // The line, up, and where its order service logs its events.
   Status start_line() {
     const auto orders_file = options_.run_dir / "orders.yaml";
     std::ofstream(orders_file) << factory::orders_yaml(orders_);
-    Status st;
-    for (int attempt = 1; attempt <= kStartAttempts; ++attempt) {
-      st = start_line(orders_file, options_.run_dir / fmt::format("line-{}", attempt));
-      if (st) {
-        return st;
-      }
-      report(fmt::format("the line did not start ({}): attempt {} of {}", st.error().describe(), attempt,
-                         kStartAttempts));
-      line_.terminate(120s);
-    }
-    return st;
-  }
-
-  Status start_line(const fs::path& orders_file, const fs::path& dir) {
-    ProcessOptions p;
-    p.argv = {options_.smartfactory.string(),
-              "line",
-              "--run-dir",
-              dir.string(),
-              "--opcua-base-port",
-              "0",
-              "--json",
-              "--status-interval",
-              "0"};
+    LineStartOptions start;
+    start.smartfactory = options_.smartfactory;
+    start.run_dir = options_.run_dir;
+    start.extra_args = {"--opcua-base-port", "0"};
     if (options_.arrivals == Arrivals::file) {
-      p.argv.insert(p.argv.end(), {"--orders", orders_file.string()});
+      start.orders_file = orders_file;
     }
-    const auto out = dir.string() + ".out";
-    p.out = Stdio::file(out);
-    p.err = Stdio::to_stdout();
-    p.parent_death_signal = SIGTERM;  // the line stops with the benchmark, however it ends
-    auto line = Process::spawn(std::move(p));
+    auto line = RunningLine::start(start, progress_);
     if (!line) {
       return line.error();
     }
     line_ = std::move(*line);
-    report(fmt::format("starting the line in {}", dir.string()));
-    return wait_ready(out);
-  }
-
-  Status wait_ready(const fs::path& out) {
-    FileLines lines(out);
-    const auto limit = clock_.now() + kReadyLimit;
-    while (clock_.now() < limit) {
-      for (const auto& l : lines.read_new()) {
-        if (auto s = order_service_of(l)) {
-          service_ = *s;
-          orders_log_.emplace(service_.log);
-          report(fmt::format("the line is up; order service at {}", service_.endpoint));
-          return {};
-        }
-      }
-      if (!line_.running()) {
-        return Error{Errc::io, fmt::format("the line ended before it was up: see {}", out.string())};
-      }
-      clock_.sleep_until(clock_.now() + kPollInterval);
+    const auto* orders = line_.process("orders");
+    if (orders == nullptr) {
+      return Error{Errc::state, "the line has no order service"};
     }
-    return Error{Errc::timeout, fmt::format("the line was not up within {} s", kReadyLimit.count())};
+    service_ = *orders;
+    orders_log_.emplace(service_.log);
+    report(fmt::format("the line is up; order service at {}", service_.opcua));
+    return {};
   }
 
   // Reads the order service's new lines: its order events, and a second ready line (a restart,
@@ -206,7 +147,7 @@ class LineBench {
     p.argv = {options_.smartfactory.string(),
               "order",
               "--server",
-              service_.endpoint,
+              service_.opcua,
               "--id",
               order.id,
               "--box",
@@ -248,8 +189,8 @@ class LineBench {
   const std::function<void(std::string_view)>& progress_;
   SteadyClock& clock_ = SteadyClock::instance();
   std::vector<factory::Order> orders_;
-  Process line_;
-  OrderService service_;
+  RunningLine line_;
+  LineProcessInfo service_;
   std::optional<FileLines> orders_log_;
   std::vector<LoggedOrderEvent> events_;
   std::set<std::string> finished_;

@@ -104,6 +104,7 @@ void print_latency(const sb::DashboardBenchResult& r) {
       r.axes, r.robot, r.sampling_ms, r.publishing_ms, (w.to_ms - w.from_ms) / 1000.0);
   fmt::print("  {:<52} {:>8} {:>8} {:>8}\n", "latency from the source time", "p50 ms", "p99 ms", "samples");
   row("page script (Chromium, the dashboard's WebSocket)", l.page_ms);
+  row("plain WebSocket client (Node's ws, no browser)", l.client_ms);
   row("gateway notification, the same samples (peer)", l.gateway_same_ms);
   row("gateway notification, every sample of that span", l.gateway_all_ms);
   row("page after the gateway (dashboard, WebSocket, page)", l.page_after_gateway_ms);

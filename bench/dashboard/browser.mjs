@@ -8,9 +8,12 @@
 //      live stream subscribes TOPICS (series/<id> of its axis positions) until SAMPLES updates came
 //      or SECONDS passed (the robot stands still between jobs and while its line recovers); each
 //      update is stamped when its message event reaches the page's scripts, in wall-clock time as
-//      the page knows it (performance.timeOrigin + performance.now()).
+//      the page knows it (performance.timeOrigin + performance.now()). A plain WebSocket client
+//      (Node's ws, the page's session cookie) subscribes the same topics at the same time: the
+//      dashboard's path without the browser.
 // Prints `note:` lines while it runs and one {"result": {...}} line at the end (bench_dashboard
 // reads it).
+import WebSocket from 'ws';
 import {WAIT_MS, fail, launch, login, note, options} from '../../tests/browser/browser.mjs';
 
 const opts = options({
@@ -91,11 +94,34 @@ async function load(context, path, waitLive) {
   return {page, figures: {path, requests: list, ...times}};
 }
 
-// The page's own socket subscribes the topics until enough samples came or time is up; the
-// samples it stamped and the window (wall-clock ms) it followed them in.
-async function follow(page) {
+// A WebSocket client outside the browser on the same live stream and topics, with the context's
+// session cookie; its samples stamped as the page's are (this process's performance clock).
+async function plainClient(context) {
+  const cookie = (await context.cookies()).map((c) => `${c.name}=${c.value}`).join('; ');
+  const url = new URL('api/live', opts.url);
+  url.protocol = 'ws:';
+  const socket = new WebSocket(url.href, {headers: {Cookie: cookie}, perMessageDeflate: false});
+  const samples = [];
+  const wanted = new Set(topics);
+  socket.on('message', (data) => {
+    const at = performance.timeOrigin + performance.now();
+    const message = JSON.parse(data.toString());
+    if (wanted.has(message.topic) && message.value) samples.push([message.topic.slice('series/'.length), message.value.t, at]);
+  });
+  await new Promise((resolve, reject) => {
+    socket.once('open', resolve);
+    socket.once('error', reject);
+  });
+  socket.send(JSON.stringify({subscribe: topics}));
+  return {samples, close: () => socket.close()};
+}
+
+// The page's own socket (and the plain client) subscribe the topics until enough samples came or
+// time is up; the samples stamped and the window (wall-clock ms) they were followed in.
+async function follow(context, page) {
   await page.click(`#machines button[data-select="${opts.machine}"]`);
   await page.waitForSelector('#machine:not([hidden])');
+  const client = await plainClient(context);
   const from = Date.now();
   await page.evaluate((list) => {
     const b = window.sfBench;
@@ -111,12 +137,14 @@ async function follow(page) {
     if (Math.floor(now / 100) > Math.floor(count / 100)) note(`${now} samples at the page`);
     count = now;
   }
-  return page.evaluate((window_from) => ({
+  client.close();
+  const live = await page.evaluate((windowFrom) => ({
     samples: window.sfBench.samples,
-    window_ms: [window_from, Date.now()],
+    window_ms: [windowFrom, Date.now()],
     // The page's wall clock against the system's, read at once: what the stamps may be off by.
     clock_offset_ms: performance.timeOrigin + performance.now() - Date.now(),
   }), from);
+  return {...live, client_samples: client.samples};
 }
 
 async function main() {
@@ -138,11 +166,13 @@ async function main() {
       loads.push(loaded.figures);
     }
     await page.bringToFront();
-    const live = await follow(page);
-    const samples = live.samples.map(([id, t, at]) => [id, Date.parse(t), at]);
-    note(`${samples.length} samples at the page; page clock − system clock ${live.clock_offset_ms.toFixed(3)} ms`);
+    const live = await follow(context, page);
+    const parsed = (list) => list.map(([id, t, at]) => [id, Date.parse(t), at]);
+    note(`${live.samples.length} samples at the page, ${live.client_samples.length} at the plain client; ` +
+      `page clock − system clock ${live.clock_offset_ms.toFixed(3)} ms`);
     console.log(JSON.stringify({result: {chromium: await browser.version(), operator: loads,
-      consumer: consumer.figures, samples, window_ms: live.window_ms, clock_offset_ms: live.clock_offset_ms}}));
+      consumer: consumer.figures, samples: parsed(live.samples), client_samples: parsed(live.client_samples),
+      window_ms: live.window_ms, clock_offset_ms: live.clock_offset_ms}}));
   } finally {
     await browser.close();
   }

@@ -57,6 +57,16 @@ std::optional<PageSample> page_sample(const json& j) {
   }
 }
 
+std::vector<PageSample> page_samples(const json& list) {
+  std::vector<PageSample> out;
+  for (const auto& s : list) {
+    if (auto sample = page_sample(s)) {
+      out.push_back(*sample);
+    }
+  }
+  return out;
+}
+
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   return a / b - ((a % b != 0 && (a < 0) != (b < 0)) ? 1 : 0);
 }
@@ -75,11 +85,8 @@ std::optional<BrowserResult> parse_browser_result(std::string_view line) {
     out.operator_loads.push_back(page_load(l));
   }
   out.consumer = page_load(r.value("consumer", json::object()));
-  for (const auto& s : r.value("samples", json::array())) {
-    if (auto sample = page_sample(s)) {
-      out.samples.push_back(*sample);
-    }
-  }
+  out.samples = page_samples(r.value("samples", json::array()));
+  out.client_samples = page_samples(r.value("client_samples", json::array()));
   if (const auto w = r.find("window_ms");
       w != r.end() && w->is_array() && w->size() == 2 && (*w)[0].is_number() && (*w)[1].is_number()) {
     out.window = {(*w)[0].get<double>(), (*w)[1].get<double>()};
@@ -89,38 +96,50 @@ std::optional<BrowserResult> parse_browser_result(std::string_view line) {
 }
 
 LatencyFigures latency_figures(const std::vector<GatewaySample>& gateway, const std::vector<PageSample>& page,
-                               Window window) {
+                               const std::vector<PageSample>& client, Window window) {
   // The live stream carries the source time in whole milliseconds (time_text): that and the
   // series name one sample (a series changes at most every sampling interval).
   std::map<std::pair<std::int64_t, std::int64_t>, const GatewaySample*> by_key;
   for (const auto& g : gateway) {
     by_key.emplace(std::make_pair(g.series, floor_div(g.source_us, 1000)), &g);
   }
-  std::vector<double> page_ms;
-  std::vector<double> same_ms;
-  std::vector<double> after_ms;
-  std::vector<double> all_ms;
   LatencyFigures f;
-  for (const auto& p : page) {
+  auto gateway_of = [&](const PageSample& p) -> const GatewaySample* {
     const auto it = by_key.find({p.series, p.source_ms});
     if (it == by_key.end()) {
       ++f.unpaired;
-      page_ms.push_back(p.received_ms - static_cast<double>(p.source_ms));
-      continue;
+      return nullptr;
     }
-    const GatewaySample& g = *it->second;
-    page_ms.push_back(p.received_ms - static_cast<double>(g.source_us) / 1000.0);
+    return it->second;
+  };
+  // Receive − source time, with the gateway's exact source time where it has the sample.
+  auto latencies = [&](const std::vector<PageSample>& samples, auto&& with_gateway) {
+    std::vector<double> ms;
+    for (const auto& p : samples) {
+      const auto* g = gateway_of(p);
+      ms.push_back(p.received_ms - (g != nullptr ? static_cast<double>(g->source_us) / 1000.0
+                                                 : static_cast<double>(p.source_ms)));
+      if (g != nullptr) {
+        with_gateway(p, *g);
+      }
+    }
+    return percentiles(std::move(ms));
+  };
+  std::vector<double> same_ms;
+  std::vector<double> after_ms;
+  f.page_ms = latencies(page, [&](const PageSample& p, const GatewaySample& g) {
     same_ms.push_back(static_cast<double>(g.received_us - g.source_us) / 1000.0);
     after_ms.push_back(p.received_ms - static_cast<double>(g.received_us) / 1000.0);
-  }
+  });
+  f.client_ms = latencies(client, [](const PageSample&, const GatewaySample&) {});
   // Every gateway sample of the page's window, whether the page had it or not.
+  std::vector<double> all_ms;
   for (const auto& g : gateway) {
     const auto ms = static_cast<double>(g.source_us) / 1000.0;
     if (ms >= window.from_ms && ms <= window.to_ms) {
       all_ms.push_back(static_cast<double>(g.received_us - g.source_us) / 1000.0);
     }
   }
-  f.page_ms = percentiles(std::move(page_ms));
   f.gateway_same_ms = percentiles(std::move(same_ms));
   f.gateway_all_ms = percentiles(std::move(all_ms));
   f.page_after_gateway_ms = percentiles(std::move(after_ms));

@@ -142,7 +142,8 @@ class DashboardBench {
     auto topics = axis_topics(cloud);
     result_.axes = topics.size();
     SF_TRY(run_browser(cloud, topics));
-    result_.latency = latency_figures(recorder.samples(), result_.browser.samples, result_.browser.window);
+    const auto& b = result_.browser;
+    result_.latency = latency_figures(recorder.samples(), b.samples, b.client_samples, b.window);
     return {};
   }
 

@@ -17,6 +17,7 @@ TEST(DashboardBrowserResult, PagesAndSamplesAreRead) {
       R"j("load_ms":250.5,"ws_open_ms":400,"first_live_ms":480.25,"first_live_frame_ms":null}],)j"
       R"j("consumer":{"path":"index.html","requests":[{"path":"/","type":"Document","bytes":1500}]},)j"
       R"j("samples":[["4611686018427387904",1700000000123,1700000000150.5],["bad",1,2],["12",3]],)j"
+      R"j("client_samples":[["4611686018427387904",1700000000123,1700000000140]],)j"
       R"j("window_ms":[1700000000000,1700000060000.5],"clock_offset_ms":0.25}})j");
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->chromium, "HeadlessChrome/120");
@@ -37,6 +38,8 @@ TEST(DashboardBrowserResult, PagesAndSamplesAreRead) {
   EXPECT_EQ(r->samples[0].series, 4611686018427387904);
   EXPECT_EQ(r->samples[0].source_ms, 1700000000123);
   EXPECT_DOUBLE_EQ(r->samples[0].received_ms, 1700000000150.5);
+  ASSERT_EQ(r->client_samples.size(), 1U);
+  EXPECT_DOUBLE_EQ(r->client_samples[0].received_ms, 1700000000140);
   EXPECT_DOUBLE_EQ(r->window.from_ms, 1700000000000);
   EXPECT_DOUBLE_EQ(r->window.to_ms, 1700000060000.5);
   EXPECT_DOUBLE_EQ(r->clock_offset_ms, 0.25);
@@ -60,9 +63,15 @@ TEST(DashboardLatency, PageSamplesPairWithTheGatewaysBySeriesAndMillisecond) {
       {2, (t + 900) / 1000, static_cast<double>(t + 60'900) / 1000},        // 60 ms, 30 after
       {1, (t + 200'700) / 1000, static_cast<double>(t + 240'700) / 1000},   // 40 ms, 20 after
       {3, (t + 200'000) / 1000, static_cast<double>(t + 290'000) / 1000}};  // not at the gateway: 90 ms
-  const auto f =
-      latency_figures(gateway, page, {static_cast<double>(t) / 1000, static_cast<double>(t) / 1000 + 1000});
+  const std::vector<PageSample> client{
+      {1, (t + 500) / 1000, static_cast<double>(t + 45'500) / 1000},        // 45 ms
+      {1, (t + 200'700) / 1000, static_cast<double>(t + 225'700) / 1000}};  // 25 ms
+  const auto f = latency_figures(gateway, page, client,
+                                 {static_cast<double>(t) / 1000, static_cast<double>(t) / 1000 + 1000});
   EXPECT_EQ(f.unpaired, 1U);
+  EXPECT_EQ(f.client_ms.samples, 2U);
+  EXPECT_DOUBLE_EQ(f.client_ms.p50, 25);
+  EXPECT_DOUBLE_EQ(f.client_ms.p99, 45);
   EXPECT_EQ(f.page_ms.samples, 4U);
   EXPECT_DOUBLE_EQ(f.page_ms.p50, 50);
   EXPECT_DOUBLE_EQ(f.page_ms.p99, 90);

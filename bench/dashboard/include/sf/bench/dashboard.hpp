@@ -45,10 +45,11 @@ struct PageSample {
 
 struct LatencyFigures {
   Percentiles page_ms;                // page receive − source time (exact source time when paired)
+  Percentiles client_ms;              // the same at a plain WebSocket client outside the browser
   Percentiles gateway_same_ms;        // gateway receive − source time of the samples the page had
   Percentiles gateway_all_ms;         // the same of every sample the gateway had in the page's window
   Percentiles page_after_gateway_ms;  // page receive − gateway receive (dashboard, WebSocket, browser)
-  std::size_t unpaired = 0;           // page samples the gateway had not recorded
+  std::size_t unpaired = 0;           // page and client samples the gateway had not recorded
 };
 
 // The wall-clock window (ms since the epoch) the page followed the series in.
@@ -57,10 +58,10 @@ struct Window {
   double to_ms = 0;
 };
 
-// Pairs each page sample with the gateway's of the same series and source millisecond; gateway
-// samples whose source time lies outside the page's window count nowhere.
+// Pairs each page (and client) sample with the gateway's of the same series and source
+// millisecond; gateway samples whose source time lies outside the page's window count nowhere.
 LatencyFigures latency_figures(const std::vector<GatewaySample>& gateway, const std::vector<PageSample>& page,
-                               Window window);
+                               const std::vector<PageSample>& client, Window window);
 
 // What one load of a page transferred (Chromium's encodedDataLength: headers and body) and when
 // it came to life (ms after navigation start; nullopt: did not happen).
@@ -83,6 +84,7 @@ struct BrowserResult {
   std::vector<PageLoad> operator_loads;
   PageLoad consumer;
   std::vector<PageSample> samples;
+  std::vector<PageSample> client_samples;  // Node's ws on the same topics (its performance clock)
   Window window;
   double clock_offset_ms = 0;  // the page's wall clock − Date.now() at the end
 };

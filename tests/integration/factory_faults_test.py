@@ -29,8 +29,8 @@ import uuid
 from collections import Counter
 
 from line_harness import (CONTROLLERS, EXECUTE, check_inspections, free_port_range, history_values, knowledge_alarms,
-                          node_name,
-                          order_counter, order_events, plant_events, plant_fault, plant_snapshot, write_cloud_config)
+                          node_name, order_counter, order_events, plant_events, plant_fault, plant_snapshot,
+                          print_log_tails, write_cloud_config)
 from sftest import Background, binary, check, fail, json_events, keep_on_failure, run, wait_for
 
 PARTITION = f"factory-faults-{uuid.uuid4().hex[:8]}"
@@ -47,6 +47,7 @@ ALL = ORDERS + [WRONG_CANDY_ORDER]
 MACHINES_NS = "nsu=urn:smartfactory:machines"
 ABORTED = 9  # PackMLState::Aborted
 STOPPED = 2
+IDLE = 4
 
 
 def write_orders(path):
@@ -144,10 +145,15 @@ def jam_conveyor3(line):
     routed = [e for e in line.events("routed", jammed_at + 2) if "-conveyor3->" in e["detail"]]
     check(not routed, f"no route over conveyor 3 while it is jammed: {routed}")
     plant_fault(line.run_dir, "clear", "jam:conveyor3")
-    for command in ["Clear", "Reset", "Start"]:
+    # As an operator does it: each command once the one before has taken the unit to its state
+    # (OPC 30050 §6.2: Aborted -Clear-> Clearing -> Stopped -Reset-> Resetting -> Idle -Start->
+    # Starting -> Execute); a command sent in the state before is refused.
+    for command, after in [("Clear", STOPPED), ("Reset", IDLE), ("Start", EXECUTE)]:
         packml(endpoint, "conveyor3", command)
-        time.sleep(1)
-    wait_for(lambda: state(endpoint, "conveyor3") == EXECUTE, 60, "conveyor 3 in Execute again", interval=0.5)
+        seen = []
+        wait_for(lambda: seen.append(state(endpoint, "conveyor3")) or seen[-1] == after, 60,
+                 lambda: f"conveyor 3 in state {after} after {command} (the last states read: {seen[-5:]})",
+                 interval=0.5)
     return line.now()
 
 
@@ -258,11 +264,7 @@ def main():
             except Exception:  # noqa: BLE001 - reported below
                 rc = None
             line.proc.stop()
-            for name in ["orders", "cloud", "scara-robot-1", "conveyor3"]:
-                log = os.path.join(line.run_dir, "log", f"{name}.log")
-                if os.path.exists(log):
-                    tail = [l for l in open(log, errors="replace").readlines() if not l.startswith('{"')][-15:]
-                    print(f"--- {name}.log (tail)\n" + "".join(tail), flush=True)
+            print_log_tails(line.run_dir, ["orders", "cloud", "scara-robot-1", "conveyor3"], lines=15)
             if not passed or rc != 0:
                 keep_on_failure("factory_faults", tmp)
         check(rc == 0, f"SIGINT stops the line with exit 0 (exit {rc})")

@@ -34,8 +34,9 @@ import uuid
 from collections import Counter
 
 from line_harness import (CONTROLLERS, EXECUTE, check_dds_layout, check_history, check_orders_done, history, machine_state,
-                          node_name, order_events, plant_snapshot, read_value, stop_line, wait_ready, write_orders)
-from sftest import Background, binary, check, json_events, run, skip, wait_for
+                          node_name, order_events, plant_snapshot, print_log_tails, read_value, stop_line, wait_ready,
+                          write_orders)
+from sftest import Background, binary, check, json_events, keep_on_failure, run, skip, wait_for
 
 PARTITION = f"factory-hosts-{uuid.uuid4().hex[:8]}"
 ORDERS = 20
@@ -242,6 +243,7 @@ def main():
         line = Background([binary(), "line", "--hosts", "--run-dir", run_dir, "--partition", PARTITION,
                            "--orders", orders, "--historian", db, "--json", "--status-interval", "5"],
                           log=os.path.join(tmp, "line.log"))
+        passed = False
         try:
             ready = wait_ready(line, 240)
             check(ready["hosts"]["netns"] == f"{prefix}-net" and
@@ -264,13 +266,19 @@ def main():
             # namespace, and as the historian holds it.
             states = {name: machine_state(by_name[name]["opcua"], name, by_name["cloud"]["netns"])
                       for name in CONTROLLERS}
-            check(set(states.values()) == {EXECUTE}, f"every machine in Execute: {states}")
+            stopped = [name for name, state in states.items() if state != EXECUTE]
+            if stopped:
+                print_log_tails(run_dir, stopped, lines=20)  # why: its stop reason, its link
+            check(not stopped, f"every machine in Execute: {states}")
             check_history(tmp, ids)
             # Last, so the captures' load cannot disturb the production the checks above count;
             # every protocol still talks (EtherCAT cycles, Modbus polls, DDS discovery, OPC UA).
             check_separation(ready, plant_modbus_ports(run_dir))
+            passed = True
         finally:
             rc = stop_line(line, run_dir)
+            if not passed:
+                keep_on_failure("factory_line_hosts", tmp)
         check(rc == 0, f"SIGINT stops the line with exit 0 (exit {rc})")
         check(namespaces(prefix) == [], f"no namespace left: {namespaces(prefix)}")
         new_links = our_root_links() - links_before

@@ -174,11 +174,18 @@ def stop_line(line, run_dir, logs=("orders", "cloud")):
     except Exception:  # noqa: BLE001 - reported by the caller
         rc = None
     line.stop()
-    for name in logs:
+    print_log_tails(run_dir, logs)
+    return rc
+
+
+def print_log_tails(run_dir, names, lines=30):
+    """The last text lines (not the JSON events) of some of the line's processes' logs."""
+    for name in names:
         log = os.path.join(run_dir, "log", f"{name}.log")
         if os.path.exists(log):
-            print(f"--- {name}.log (tail)\n" + "".join(open(log).readlines()[-30:]), flush=True)
-    return rc
+            with open(log, errors="replace") as f:
+                tail = [l for l in f.readlines() if not l.startswith('{"')][-lines:]
+            print(f"--- {name}.log (tail)\n" + "".join(tail), flush=True)
 
 
 def order_events(run_dir):

@@ -4,6 +4,7 @@ namespaces with veth pairs, background processes, and plain assertions.
 Tests run as scripts under ctest; exit code 77 means "skipped" (not root,
 no namespaces), any other non-zero exit is a failure with a message.
 """
+import collections
 import ctypes
 import json
 import os
@@ -110,18 +111,17 @@ def check(condition, message):
     print(f"ok: {message}", flush=True)
 
 
-_last_echoed = None
+_recent = collections.deque(maxlen=4)
 
 
 def run(args, timeout=60, ns=None, check_rc=True):
     """Runs a command (optionally inside a namespace) and returns CompletedProcess. The command is
-    echoed, but not again when it repeats the one before (a poll): a failing test's output then
-    shows its steps, not hundreds of the same poll."""
-    global _last_echoed
+    echoed, but not when it is one of the last few (a poll, or polls taking turns): a failing
+    test's output then shows its steps, not hundreds of the same polls."""
     cmd = (["ip", "netns", "exec", ns] if ns else []) + list(args)
-    if cmd != _last_echoed:
+    if cmd not in _recent:
         print("$ " + " ".join(cmd), flush=True)
-        _last_echoed = cmd
+    _recent.append(cmd)
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     if check_rc and proc.returncode != 0:
         fail(f"{' '.join(cmd)} exited {proc.returncode}\nstdout:\n{proc.stdout}\nstderr:\n{proc.stderr}")
@@ -220,10 +220,11 @@ class VethPair:
 
 
 def wait_for(predicate, timeout, what, interval=0.1):
-    """Polls predicate every `interval` s (a predicate that starts processes wants a long one)."""
+    """Polls predicate every `interval` s (a predicate that starts processes wants a long one).
+    `what` may be a callable: the message then tells what was seen by the end."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         if predicate():
             return
         time.sleep(interval)
-    fail(f"timed out after {timeout}s waiting for {what}")
+    fail(f"timed out after {timeout}s waiting for {what() if callable(what) else what}")

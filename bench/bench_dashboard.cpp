@@ -36,6 +36,21 @@ namespace sb = sf::bench;
 
 namespace {
 
+constexpr const char* kUsage = R"(usage: bench_dashboard [options]
+The operator dashboard end to end: starts the candy line as processes (smartfactory line) with
+orders that keep its smart robot picking, the line's cloud in this process, and headless Chromium
+on the operator page. Prints the latency of the robot's axis positions from their source time to
+the page's script (p50/p99, goal p99 <= 250 ms) next to the gateway's notification latency of the
+same samples; the operator page's weight (goal <= 300 kB) next to the consumer page; the time to
+the first live value. Takes a few minutes; progress goes to stderr.
+  --samples N     follow the axes until N updates reached the page (1000)
+  --seconds S     or at most S seconds (600)
+  --loads N       loads of the operator page for its weight and first live value (3)
+  --orders N      orders of the largest box (6)
+  --candy NAME    a candy type of those orders, repeatable (gummy)
+  --chromium PATH the browser (default: Debian's chromium; also SF_CHROMIUM)
+  --web-root DIR  the dashboard's pages (default: the built ones)
+)";
 constexpr double kGoalP99Ms = 250;
 constexpr double kGoalPageKB = 300;
 
@@ -56,9 +71,7 @@ sb::DashboardBenchOptions parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (i + 1 >= argc || !arg.starts_with("--")) {
-      std::cerr
-          << "usage: bench_dashboard [--samples N] [--seconds S] [--loads N] [--orders N] [--candy NAME]... "
-             "[--chromium PATH] [--web-root DIR]\n";
+      (arg == "--help" ? std::cout : std::cerr) << kUsage;
       std::exit(arg == "--help" ? 0 : 2);  // NOLINT(concurrency-mt-unsafe): before any thread
     }
     const std::string value = argv[++i];

@@ -1,7 +1,6 @@
 #include "sf/negotiation/manager.hpp"
 
 #include <algorithm>
-#include <random>
 
 #include <fmt/format.h>
 

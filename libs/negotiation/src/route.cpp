@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <limits>
 #include <queue>
-#include <random>
 #include <tuple>
 
 #include <fmt/format.h>

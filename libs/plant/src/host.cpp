@@ -67,6 +67,16 @@ Status PlantHost::serve_modbus() {
   return {};
 }
 
+namespace {
+
+// The plant answers only frames that waited less than this in its socket (a wire never queues a
+// frame; libs/ethercat/src/link/arrival.hpp): ten times a master's frame timeout (2 ms here and in
+// SOEM), so no answer a master still waits for is dropped, and far below the time a master's 8-bit
+// datagram index takes to wrap (256 frames: over 85 ms at its cycle and acyclic frames).
+constexpr std::chrono::milliseconds kMaxFrameAge{20};
+
+}  // namespace
+
 Status PlantHost::serve_ethercat() {
   std::uint16_t index = 0;
   for (const auto& robot : plant_.smart_robots()) {
@@ -74,7 +84,7 @@ Status PlantHost::serve_ethercat() {
     std::string protocol = "ethercat-udp";
     std::string address;
     if (auto it = options_.ecat_interfaces.find(robot->name()); it != options_.ecat_interfaces.end()) {
-      auto raw = ethercat::RawSocketLink::open(it->second);
+      auto raw = ethercat::RawSocketLink::open(it->second, {.max_queue_age = kMaxFrameAge});
       if (!raw) {
         return raw.error().with_context(fmt::format("EtherCAT segment of {}", robot->name()));
       }
@@ -84,7 +94,7 @@ Status PlantHost::serve_ethercat() {
     } else {
       const auto port =
           options_.ecat_port == 0 ? std::uint16_t{0} : static_cast<std::uint16_t>(options_.ecat_port + index);
-      auto udp = ethercat::UdpLink::listen(options_.ecat_host, port);
+      auto udp = ethercat::UdpLink::listen(options_.ecat_host, port, kMaxFrameAge);
       if (!udp) {
         return udp.error().with_context(fmt::format("EtherCAT segment of {}", robot->name()));
       }

@@ -18,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "arrival.hpp"
 #include "sf/ethercat/link.hpp"
 
 namespace sf::ethercat {
@@ -104,6 +105,9 @@ Result<std::unique_ptr<RawSocketLink>> RawSocketLink::open(const std::string& in
   // it; the outgoing copies are then skipped in receive().
   const int one = 1;
   (void)::setsockopt(fd.get(), SOL_PACKET, PACKET_IGNORE_OUTGOING, &one, sizeof one);
+  if (options.max_queue_age.count() > 0) {
+    SF_TRY(detail::stamp_arrivals(fd.get(), interface));
+  }
   return std::unique_ptr<RawSocketLink>(
       new RawSocketLink(fd.release(), static_cast<int>(index), interface, *mac, options));
 }
@@ -138,13 +142,18 @@ Status RawSocketLink::send(ByteSpan frame) {
 Result<std::optional<std::size_t>> RawSocketLink::read_frame(MutableByteSpan buf) {
   sockaddr_ll from{};
   socklen_t from_len = sizeof from;
-  const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), MSG_TRUNC | MSG_DONTWAIT,
-                               reinterpret_cast<sockaddr*>(&from), &from_len);  // NOLINT
+  std::optional<std::chrono::nanoseconds> waited;
+  const ssize_t n = detail::receive_stamped(fd_, buf, MSG_TRUNC | MSG_DONTWAIT,
+                                            reinterpret_cast<sockaddr*>(&from), &from_len, waited);  // NOLINT
   if (n < 0) {
     if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
       return std::optional<std::size_t>{};
     }
-    return os_error("recvfrom", interface_, errno);
+    return os_error("recvmsg", interface_, errno);
+  }
+  if (detail::too_old(waited, options_.max_queue_age)) {
+    ++stale_;
+    return std::optional<std::size_t>{};
   }
   // Our own transmissions, where the kernel still loops them back: skip.
   if (from.sll_pkttype == PACKET_OUTGOING) {

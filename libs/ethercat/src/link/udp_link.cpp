@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "arrival.hpp"
 #include "sf/core/bytes.hpp"
 #include "sf/ethercat/link.hpp"
 
@@ -112,14 +113,20 @@ Result<std::unique_ptr<UdpLink>> UdpLink::connect(const std::string& host, std::
   return link;
 }
 
-Result<std::unique_ptr<UdpLink>> UdpLink::listen(const std::string& host, std::uint16_t port) {
+Result<std::unique_ptr<UdpLink>> UdpLink::listen(const std::string& host, std::uint16_t port,
+                                                 std::chrono::nanoseconds max_queue_age) {
   auto socket = open_socket(host, port, true);
   if (!socket) {
     return socket.error();
   }
   const int fd = socket->first;
   const std::uint16_t local = bound_port(fd);
-  return std::unique_ptr<UdpLink>(new UdpLink(fd, true, local, fmt::format("udp:{}:{}", host, local)));
+  auto link = std::unique_ptr<UdpLink>(new UdpLink(fd, true, local, fmt::format("udp:{}:{}", host, local)));
+  if (max_queue_age.count() > 0) {
+    SF_TRY(detail::stamp_arrivals(fd, link->name_));
+    link->max_queue_age_ = max_queue_age;
+  }
+  return link;
 }
 
 std::string UdpLink::name() const {
@@ -178,13 +185,19 @@ Result<std::size_t> UdpLink::receive(MutableByteSpan buf, std::chrono::nanosecon
     sockaddr_in from{};
     socklen_t from_len = sizeof from;
     const MutableByteSpan payload = buf.subspan(kEthernetHeaderSize);
-    const ssize_t n = ::recvfrom(fd_, payload.data(), payload.size(), MSG_TRUNC | MSG_DONTWAIT,
-                                 reinterpret_cast<sockaddr*>(&from), &from_len);  // NOLINT
+    std::optional<std::chrono::nanoseconds> waited;
+    const ssize_t n =
+        detail::receive_stamped(fd_, payload, MSG_TRUNC | MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from),
+                                &from_len, waited);  // NOLINT
     if (n < 0) {
       if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK || errno == ECONNREFUSED) {
         continue;  // ECONNREFUSED: an earlier send found no segment listening yet
       }
-      return os_error(fmt::format("recvfrom on {}", name_), errno);
+      return os_error(fmt::format("recvmsg on {}", name_), errno);
+    }
+    if (detail::too_old(waited, max_queue_age_)) {
+      ++stale_;
+      continue;
     }
     const auto size = static_cast<std::size_t>(n);
     if (size > payload.size() || !is_ecat_payload(payload.first(size))) {

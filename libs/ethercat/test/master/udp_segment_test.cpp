@@ -72,6 +72,42 @@ TEST(UdpSegment, DatagramsThatAreNotEtherCatAreSkipped) {
   EXPECT_FALSE((*link)->send(std::vector<std::uint8_t>(60, 0)));
 }
 
+// A frame that waited in the segment's socket longer than its maximum queue age is dropped, as a
+// wire would have lost it; a fresh one is answered (src/link/arrival.hpp).
+TEST(UdpSegment, AFrameThatWaitedLongerThanTheMaximumQueueAgeIsDropped) {
+  auto segment_side = UdpLink::listen("127.0.0.1", 0, std::chrono::milliseconds{5});
+  ASSERT_TRUE(segment_side) << segment_side.error().describe();
+  auto master_side = UdpLink::connect("127.0.0.1", (*segment_side)->local_port());
+  ASSERT_TRUE(master_side);
+  Frame frame;
+  frame.datagrams.push_back(Datagram{});
+  frame.datagrams.back().command = Command::BRD;
+  frame.datagrams.back().data.assign(2, 0);
+  auto bytes = encode(frame);
+  ASSERT_TRUE(bytes);
+  std::array<std::uint8_t, kMaxFrameSize> buf{};
+
+  // The segment's process not scheduled for 50 ms while a frame waits. The kernel turns arrival
+  // stamps on a moment after the first socket asks (net_enable_timestamp() defers it), and a
+  // datagram that came before is stamped when read: the first frames may pass.
+  for (int i = 0; i < 40 && (*segment_side)->stale() == 0; ++i) {
+    ASSERT_TRUE((*master_side)->send(*bytes));
+    ::usleep(50'000);
+    auto n = (*segment_side)->receive(buf, std::chrono::milliseconds{20});
+    ASSERT_TRUE(n);
+  }
+  EXPECT_EQ((*segment_side)->stale(), 1U);
+
+  ASSERT_TRUE((*master_side)->send(*bytes));
+  auto n = (*segment_side)->receive(buf, std::chrono::seconds{5});
+  ASSERT_TRUE(n);
+  EXPECT_EQ(*n, bytes->size());
+  EXPECT_EQ((*segment_side)->stale(), 1U);
+  auto back = decode(ByteSpan{buf.data(), *n});
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->datagrams.size(), 1U);
+}
+
 TEST(UdpSegment, BadLinkSpecsAreRefused) {
   EXPECT_FALSE(open_link("udp:localhost:34980"));  // numeric addresses only
   EXPECT_FALSE(open_link("udp:127.0.0.1:0"));

@@ -70,6 +70,9 @@ struct RawSocketOptions {
   // waiting for the thread to be woken (the way SOEM's and KickCAT's receive
   // loops wait), at the price of a busy core meanwhile. 0: always sleep.
   std::chrono::nanoseconds busy_poll{0};
+  // A frame that waited in the socket longer than this is dropped (stale()): a segment emulated in
+  // a process answers only what a wire would have carried (src/link/arrival.hpp). 0: no limit.
+  std::chrono::nanoseconds max_queue_age{0};
 };
 
 class RawSocketLink final : public Link {
@@ -85,6 +88,8 @@ class RawSocketLink final : public Link {
   [[nodiscard]] MacAddress mac() const override { return mac_; }
   [[nodiscard]] std::string name() const override { return interface_; }
   [[nodiscard]] int interface_index() const { return ifindex_; }
+  // Frames dropped for their time in the socket (RawSocketOptions::max_queue_age).
+  [[nodiscard]] std::uint64_t stale() const { return stale_.load(); }
 
  private:
   RawSocketLink(int fd, int ifindex, std::string interface, MacAddress mac, RawSocketOptions options)
@@ -98,6 +103,7 @@ class RawSocketLink final : public Link {
   std::string interface_;
   MacAddress mac_;
   RawSocketOptions options_;
+  std::atomic<std::uint64_t> stale_{0};
 };
 
 // ---------------------------------------------------------------------------
@@ -118,8 +124,10 @@ class UdpLink final : public Link {
   // Master side: sends to host:port and receives the replies from there.
   static Result<std::unique_ptr<UdpLink>> connect(const std::string& host, std::uint16_t port = kPort);
   // Segment side: listens on host:port (0 = a free port) and replies to
-  // whoever sent the last frame.
-  static Result<std::unique_ptr<UdpLink>> listen(const std::string& host, std::uint16_t port = kPort);
+  // whoever sent the last frame. A frame that waited in the socket longer than
+  // max_queue_age is dropped (stale(); src/link/arrival.hpp); 0: no limit.
+  static Result<std::unique_ptr<UdpLink>> listen(const std::string& host, std::uint16_t port = kPort,
+                                                 std::chrono::nanoseconds max_queue_age = {});
   ~UdpLink() override;
   UdpLink(const UdpLink&) = delete;
   UdpLink& operator=(const UdpLink&) = delete;
@@ -130,6 +138,7 @@ class UdpLink final : public Link {
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] std::uint16_t local_port() const { return local_port_; }
   [[nodiscard]] std::uint64_t skipped() const { return skipped_.load(); }
+  [[nodiscard]] std::uint64_t stale() const { return stale_.load(); }
 
  private:
   struct Peer;
@@ -142,7 +151,9 @@ class UdpLink final : public Link {
   MacAddress mac_;
   std::unique_ptr<Peer> peer_;
   std::mutex peer_mutex_;
+  std::chrono::nanoseconds max_queue_age_{0};
   std::atomic<std::uint64_t> skipped_{0};
+  std::atomic<std::uint64_t> stale_{0};
 };
 
 // A link from a command-line spec: "udp:HOST:PORT" (a UdpLink to a segment

@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "sf/bench/dashboard.hpp"
@@ -35,7 +36,7 @@ PageLoad page_load(const json& j) {
     load.vendor_bytes += path.starts_with("/vendor/") ? bytes : 0;
     load.uplot_js_bytes += path == "/vendor/uPlot.esm.js" ? bytes : 0;
     if (const auto failed = r.value("failed", ""); !failed.empty()) {
-      load.failed.push_back(path + ": " + failed);
+      load.failed.push_back(fmt::format("{}: {}", path, failed));
     }
   }
   load.load_ms = optional_number(j, "load_ms");

@@ -10,13 +10,14 @@
 
 #include <fmt/format.h>
 
+#include "sf/core/text.hpp"
+
 namespace sf::ethercat::detail {
 
 Status stamp_arrivals(int fd, std::string_view link) {
   const int one = 1;
   if (::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) != 0) {
-    return make_error(Errc::io,
-                      fmt::format("{}: setsockopt(SO_TIMESTAMPNS): {}", link, std::strerror(errno)));
+    return make_error(Errc::io, fmt::format("{}: setsockopt(SO_TIMESTAMPNS): {}", link, errno_text(errno)));
   }
   return {};
 }
